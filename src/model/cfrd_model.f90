@@ -1,0 +1,96 @@
+!> The analysis model as parameters: mesh, materials, boundary conditions and loads.
+!> Built by the deck reader (`io/`), read by the analysis; it never changes during a run.
+!> Node, element and material numbers are their positions in the arrays (1..n): the deck
+!> reader insists on complete, consecutive numbering, as the legacy codes did.
+module cfrd_model
+    use cfrd_kinds, only: dp
+    implicit none
+    private
+
+    public :: model_t, mesh_t, material_t, gravity_load_t, pressure_load_t
+    public :: plane_strain, axisymmetric, law_elastic, elem_quad4, all_groups
+    public :: law_name
+
+    !> Analysis types (CONTROL card, field MODEL).
+    integer, parameter :: plane_strain = 1
+    integer, parameter :: axisymmetric = 2
+
+    !> Material laws (MATERIALS card, field LAW).
+    integer, parameter :: law_elastic = 1
+
+    !> Element kinds; the element factory maps each to an element implementation.
+    integer, parameter :: elem_quad4 = 1
+
+    !> Group index meaning "every element" in a gravity load.
+    integer, parameter :: all_groups = 0
+
+    !> One material: its law and the parameters that law reads.
+    type :: material_t
+        integer :: law = law_elastic
+        character(len=:), allocatable :: label
+        real(dp) :: unit_weight = 0.0_dp     !! kN/m3, for gravity loads
+        real(dp) :: youngs_modulus = 0.0_dp  !! kPa (ELASTIC)
+        real(dp) :: poisson_ratio = 0.0_dp   !! - (ELASTIC)
+    end type material_t
+
+    !> Nodes and elements. Triangles are degenerate quads with conn(4,e) == conn(3,e).
+    type :: mesh_t
+        integer :: nnode = 0
+        integer :: nelem = 0
+        real(dp), allocatable :: x(:, :)        !! (2, nnode) coordinates x, y in m
+        integer, allocatable :: conn(:, :)      !! (4, nelem) nodes, counter-clockwise
+        integer, allocatable :: kind(:)         !! (nelem) element kind, elem_quad4, ...
+        integer, allocatable :: material(:)     !! (nelem) material number
+        integer, allocatable :: group(:)        !! (nelem) index into group_name, 0 = none
+        character(len=10), allocatable :: group_name(:)  !! named element groups
+    end type mesh_t
+
+    !> Gravity on a group of elements: body force per volume = unit weight * (ax, ay).
+    type :: gravity_load_t
+        integer :: group = all_groups           !! index into mesh%group_name, or all_groups
+        real(dp) :: ax = 0.0_dp
+        real(dp) :: ay = -1.0_dp
+    end type gravity_load_t
+
+    !> Normal pressure on face `face` (1..4: from node face to node face+1) of an element,
+    !> varying linearly from p1 at the face's first node to p2 at its second; positive
+    !> pressure pushes into the element.
+    type :: pressure_load_t
+        integer :: element = 0
+        integer :: face = 0
+        real(dp) :: p1 = 0.0_dp   !! kPa
+        real(dp) :: p2 = 0.0_dp   !! kPa
+    end type pressure_load_t
+
+    !> Everything a deck says.
+    type :: model_t
+        character(len=:), allocatable :: deck_file   !! the file it was read from
+        character(len=:), allocatable :: deck_text   !! the deck as read, lines joined by LF
+        character(len=:), allocatable :: title
+        integer :: analysis = plane_strain
+        real(dp) :: pa = 101.325_dp      !! atmospheric pressure, kPa
+        real(dp) :: gamma_w = 9.81_dp    !! unit weight of water, kN/m3
+        character(len=:), allocatable :: units      !! 'KN-M'
+        type(mesh_t) :: mesh
+        type(material_t), allocatable :: materials(:)
+        logical, allocatable :: fixed(:, :)         !! (2, nnode) dof is prescribed
+        real(dp), allocatable :: prescribed(:, :)   !! (2, nnode) its value, m
+        real(dp), allocatable :: nodal_force(:, :)  !! (2, nnode) kN/m
+        type(gravity_load_t), allocatable :: gravity(:)
+        type(pressure_load_t), allocatable :: pressures(:)
+    end type model_t
+
+contains
+
+    !> The deck keyword of a material law.
+    pure function law_name(law) result(name)
+        integer, intent(in) :: law
+        character(len=:), allocatable :: name
+        select case (law)
+        case (law_elastic)
+            name = 'ELASTIC'
+        case default
+            name = 'UNKNOWN'
+        end select
+    end function law_name
+end module cfrd_model

@@ -1,0 +1,40 @@
+!> What an analysis hands to the writers: plain arrays per stage, no behaviour.
+!> Sign convention: tension positive; stress components (xx, yy, zz, xy) in kPa.
+module cfrd_results
+    use cfrd_kinds, only: dp
+    implicit none
+    private
+
+    public :: stage_result_t, results_t, solver_stats_t
+
+    !> Figures of the linear solves, for the listing and the benchmark.
+    type :: solver_stats_t
+        integer :: neq = 0                 !! equations (free dofs)
+        integer :: nnz = 0                 !! stored nonzeros of the matrix
+        real(dp) :: t_pattern = 0.0_dp     !! s, sparse pattern
+        real(dp) :: t_assembly = 0.0_dp    !! s, stiffness and load assembly
+        real(dp) :: t_symbolic = 0.0_dp    !! s, UMFPACK symbolic factorisation
+        real(dp) :: t_numeric = 0.0_dp     !! s, UMFPACK numeric factorisation
+        real(dp) :: t_solve = 0.0_dp       !! s, triangular solves
+        real(dp) :: rcond = 0.0_dp         !! UMFPACK's reciprocal condition estimate
+    end type solver_stats_t
+
+    !> The state at the end of one stage.
+    type :: stage_result_t
+        character(len=:), allocatable :: name
+        real(dp), allocatable :: displacement(:, :)   !! (2, nnode) m
+        real(dp), allocatable :: reaction(:, :)       !! (2, nnode) kN/m, zero at free dofs
+        real(dp), allocatable :: stress_gauss(:, :, :) !! (4, ngauss=4, nelem) kPa
+        real(dp), allocatable :: stress_centroid(:, :) !! (4, nelem) kPa
+        real(dp), allocatable :: principal(:, :)      !! (3, nelem): sigma1, sigma3 (kPa), angle (deg)
+        real(dp) :: applied_load(2) = 0.0_dp          !! sum of applied forces, kN/m
+        real(dp) :: reaction_sum(2) = 0.0_dp          !! sum of reactions, kN/m
+        type(solver_stats_t) :: stats
+    end type stage_result_t
+
+    !> All stages of a run.
+    type :: results_t
+        type(stage_result_t), allocatable :: stages(:)
+        real(dp) :: wall_time = 0.0_dp   !! s, whole analysis
+    end type results_t
+end module cfrd_results

@@ -1,0 +1,53 @@
+!> Test driver: `cfrd-tests` runs every suite; `cfrd-tests SUITE` one suite;
+!> `cfrd-tests SUITE TEST` one test. Prints PASS/FAIL lines and `fortran: N passed, N failed`;
+!> exits 1 when a test failed.
+program cfrd_tests
+    use cfrd_testing, only: unittest_t, run_suite
+    use test_io_deck, only: collect_io_deck
+    use test_solver_sparse, only: collect_solver_sparse
+    use test_elements_quad4, only: collect_elements_quad4
+    use test_analysis_verification, only: collect_analysis_verification
+    use test_io_results, only: collect_io_results
+    implicit none
+    character(len=64) :: only_suite, only_test
+    type(unittest_t), allocatable :: tests(:)
+    integer :: npass, nfail
+
+    only_suite = ''
+    only_test = ''
+    if (command_argument_count() >= 1) call get_command_argument(1, only_suite)
+    if (command_argument_count() >= 2) call get_command_argument(2, only_test)
+    npass = 0
+    nfail = 0
+
+    if (wanted('io_deck')) then
+        call collect_io_deck(tests)
+        call run_suite('io_deck', tests, only_test, npass, nfail)
+    end if
+    if (wanted('solver_sparse')) then
+        call collect_solver_sparse(tests)
+        call run_suite('solver_sparse', tests, only_test, npass, nfail)
+    end if
+    if (wanted('elements_quad4')) then
+        call collect_elements_quad4(tests)
+        call run_suite('elements_quad4', tests, only_test, npass, nfail)
+    end if
+    if (wanted('analysis_verification')) then
+        call collect_analysis_verification(tests)
+        call run_suite('analysis_verification', tests, only_test, npass, nfail)
+    end if
+    if (wanted('io_results')) then
+        call collect_io_results(tests)
+        call run_suite('io_results', tests, only_test, npass, nfail)
+    end if
+
+    write (*, '(a,i0,a,i0,a)') 'fortran: ', npass, ' passed, ', nfail, ' failed'
+    if (nfail > 0) error stop 1
+
+contains
+
+    logical function wanted(suite)
+        character(len=*), intent(in) :: suite
+        wanted = len_trim(only_suite) == 0 .or. only_suite == suite
+    end function wanted
+end program cfrd_tests
