@@ -1,0 +1,71 @@
+!> The one element interface (after FEAP): every element kind, solid quads now and joints,
+!> thin layers and contact segments later, answers the same questions, so assembly and output
+!> go through one loop. The element knows geometry and kinematics only; the material law's
+!> tangent and stresses are handed in per integration point by the caller, so an element never
+!> needs to know which law it carries.
+!>
+!> Arrays: x(2, nodes) nodal coordinates; u(2*nodes) nodal displacements ordered
+!> (ux1, uy1, ux2, uy2, ...); dmat(ncomp, ncomp, ngauss) tangent per integration point;
+!> strain and stress (ncomp, ngauss).
+module cfrd_element
+    use cfrd_kinds, only: dp
+    implicit none
+    private
+
+    public :: element_t
+
+    type, abstract :: element_t
+    contains
+        !> Number of nodes.
+        procedure(count_i), deferred, nopass :: nodes
+        !> Number of integration points.
+        procedure(count_i), deferred, nopass :: gauss_points
+        !> Number of stress / strain components at an integration point.
+        procedure(count_i), deferred, nopass :: components
+        !> Tangent stiffness: ke = sum over points of B^T D B dV.
+        procedure(stiffness_i), deferred, nopass :: stiffness
+        !> Strains (or relative displacements) at the integration points.
+        procedure(strains_i), deferred, nopass :: strains
+        !> Internal force: fe = sum over points of B^T sigma dV.
+        procedure(internal_force_i), deferred, nopass :: internal_force
+        !> Equivalent nodal force of a body force per unit volume b(2).
+        procedure(body_force_i), deferred, nopass :: body_force
+        !> Global coordinates of the integration points.
+        procedure(gauss_coordinates_i), deferred, nopass :: gauss_coordinates
+    end type element_t
+
+    abstract interface
+        pure integer function count_i()
+        end function count_i
+
+        pure subroutine stiffness_i(x, dmat, ke)
+            import :: dp
+            real(dp), intent(in) :: x(:, :), dmat(:, :, :)
+            real(dp), intent(out) :: ke(:, :)
+        end subroutine stiffness_i
+
+        pure subroutine strains_i(x, u, strain)
+            import :: dp
+            real(dp), intent(in) :: x(:, :), u(:)
+            real(dp), intent(out) :: strain(:, :)
+        end subroutine strains_i
+
+        pure subroutine internal_force_i(x, stress, fe)
+            import :: dp
+            real(dp), intent(in) :: x(:, :), stress(:, :)
+            real(dp), intent(out) :: fe(:)
+        end subroutine internal_force_i
+
+        pure subroutine body_force_i(x, b, fe)
+            import :: dp
+            real(dp), intent(in) :: x(:, :), b(2)
+            real(dp), intent(out) :: fe(:)
+        end subroutine body_force_i
+
+        pure subroutine gauss_coordinates_i(x, xg)
+            import :: dp
+            real(dp), intent(in) :: x(:, :)
+            real(dp), intent(out) :: xg(:, :)
+        end subroutine gauss_coordinates_i
+    end interface
+end module cfrd_element

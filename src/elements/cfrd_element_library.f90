@@ -1,0 +1,28 @@
+!> The one place where an element kind becomes an element implementation.
+module cfrd_element_library
+    use cfrd_error, only: error_t, fatal_error
+    use cfrd_element, only: element_t
+    use cfrd_quad4, only: quad4_t
+    use cfrd_model, only: elem_quad4
+    implicit none
+    private
+
+    public :: make_element
+
+contains
+
+    !> Allocate the element implementation of kind `kind` (cfrd_model: elem_quad4, ...).
+    subroutine make_element(kind, element, error)
+        integer, intent(in) :: kind
+        class(element_t), allocatable, intent(out) :: element
+        type(error_t), allocatable, intent(out) :: error
+        character(len=12) :: text
+        select case (kind)
+        case (elem_quad4)
+            allocate (quad4_t :: element)
+        case default
+            write (text, '(i0)') kind
+            call fatal_error(error, 'internal: no element implementation for kind '//trim(text))
+        end select
+    end subroutine make_element
+end module cfrd_element_library

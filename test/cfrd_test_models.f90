@@ -1,0 +1,59 @@
+!> Small models built in code for the verification tests, so that the analysis is checked
+!> independently of the deck reader.
+module cfrd_test_models
+    use cfrd_kinds, only: dp
+    use cfrd_model, only: model_t, material_t, gravity_load_t, pressure_load_t, elem_quad4
+    implicit none
+    private
+
+    public :: new_model, elastic_material, add_pressure, relative_imbalance
+
+contains
+
+    !> A model with the given nodes, elements and materials; no constraints and no loads yet.
+    subroutine new_model(model, x, conn, material, materials)
+        type(model_t), intent(out) :: model
+        real(dp), intent(in) :: x(:, :)
+        integer, intent(in) :: conn(:, :), material(:)
+        type(material_t), intent(in) :: materials(:)
+        model%deck_file = 'test'
+        model%deck_text = ''
+        model%title = 'verification model'
+        model%units = 'KN-M'
+        model%mesh%nnode = size(x, 2)
+        model%mesh%nelem = size(conn, 2)
+        model%mesh%x = x
+        model%mesh%conn = conn
+        model%mesh%material = material
+        allocate (model%mesh%kind(model%mesh%nelem), source=elem_quad4)
+        allocate (model%mesh%group(model%mesh%nelem), source=0)
+        allocate (model%mesh%group_name(0))
+        model%materials = materials
+        allocate (model%fixed(2, model%mesh%nnode), source=.false.)
+        allocate (model%prescribed(2, model%mesh%nnode), source=0.0_dp)
+        allocate (model%nodal_force(2, model%mesh%nnode), source=0.0_dp)
+        allocate (model%gravity(0), model%pressures(0))
+    end subroutine new_model
+
+    pure function elastic_material(e, nu, unit_weight) result(mat)
+        real(dp), intent(in) :: e, nu, unit_weight
+        type(material_t) :: mat
+        mat%label = 'elastic'
+        mat%youngs_modulus = e
+        mat%poisson_ratio = nu
+        mat%unit_weight = unit_weight
+    end function elastic_material
+
+    subroutine add_pressure(model, element, face, p1, p2)
+        type(model_t), intent(inout) :: model
+        integer, intent(in) :: element, face
+        real(dp), intent(in) :: p1, p2
+        model%pressures = [model%pressures, pressure_load_t(element, face, p1, p2)]
+    end subroutine add_pressure
+
+    !> |applied + reactions| / |applied|, the equilibrium of the whole model.
+    pure real(dp) function relative_imbalance(applied, reactions)
+        real(dp), intent(in) :: applied(2), reactions(2)
+        relative_imbalance = norm2(applied + reactions)/max(norm2(applied), tiny(1.0_dp))
+    end function relative_imbalance
+end module cfrd_test_models

@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# The whole test suite, run by `make test` after the debug build:
+#   1. the Fortran suites (test/main.f90),
+#   2. the command line: bad decks (exit 2 and the message), exit statuses, results left
+#      untouched by a failed run,
+#   3. the independent peer: the same embankment through CalculiX.
+# Every check prints PASS or FAIL; the last line is exactly `N passed, N failed`.
+set -u
+fpm_debug=$1              # the fpm command line of the debug build (from the Makefile)
+cfrd=build/debug-bin/cfrd
+work=build/test-work
+rm -rf "$work" && mkdir -p "$work"
+passed=0
+failed=0
+
+pass() { echo "PASS $1"; passed=$((passed + 1)); }
+fail() { echo "FAIL $1"; failed=$((failed + 1)); }
+
+# 1. Fortran suites: count their PASS/FAIL lines.
+eval "$fpm_debug test" >"$work/fortran.log" 2>&1
+grep -E '^(PASS|FAIL) ' "$work/fortran.log"
+np=$(grep -c '^PASS ' "$work/fortran.log")
+nf=$(grep -c '^FAIL ' "$work/fortran.log")
+passed=$((passed + np))
+failed=$((failed + nf))
+if ! grep -q '^fortran: ' "$work/fortran.log"; then
+    fail "fortran: the test driver did not finish; its log:"
+    tail -30 "$work/fortran.log"
+fi
+
+# 2a. Every bad deck is rejected with exit status 2 and the message its `* expect:` card names.
+for deck in test/bad_decks/*.dat; do
+    [[ -e $deck ]] || continue
+    expect=$(sed -n 's/^\* expect: //p' "$deck" | head -1)
+    "$cfrd" --check "$deck" >"$work/out.txt" 2>"$work/err.txt"
+    status=$?
+    name="cli/bad-deck/$(basename "$deck" .dat)"
+    if [[ $status -ne 2 ]]; then
+        fail "$name: exit status $status, expected 2 ($(head -c 300 "$work/err.txt"))"
+    elif ! grep -qF -- "$expect" "$work/err.txt"; then
+        fail "$name: message lacks '$expect': $(head -c 300 "$work/err.txt")"
+    else
+        pass "$name"
+    fi
+done
+
+# 2b. Exit statuses of the command line itself.
+check_status() { # name expected-status command...
+    local name=$1 expected=$2
+    shift 2
+    "$@" >"$work/out.txt" 2>"$work/err.txt"
+    local status=$?
+    if [[ $status -eq $expected ]]; then pass "$name"; else
+        fail "$name: exit status $status, expected $expected: $(head -c 200 "$work/err.txt")"
+    fi
+}
+check_status cli/no-deck 2 "$cfrd"
+check_status cli/unknown-option 2 "$cfrd" --frobnicate inputs/example.dat
+check_status cli/missing-deck-file 2 "$cfrd" "$work/no-such-deck.dat"
+check_status cli/version 0 "$cfrd" --version
+check_status cli/help 0 "$cfrd" --help
+check_status cli/check-good-deck 0 "$cfrd" --check inputs/example.dat
+
+# 2c. A failed run leaves the results of an earlier run byte-identical, and no temporary files.
+tools/cli_failure_test.sh "$cfrd" "$work/failure" && pass cli/failed-run-keeps-results ||
+    fail cli/failed-run-keeps-results
+
+# 3. The independent peer: CalculiX checked on a closed form, then on the same embankment.
+for args in "--column" "--elements 1000"; do
+    line=$(python3 tools/ccx_peer.py --cfrd "$cfrd" $args --workdir "$work/peer" 2>&1 | tail -1)
+    case $line in
+        PASS*) pass "${line#PASS }" ;;
+        FAIL*) fail "${line#FAIL }" ;;
+        *) fail "peer $args: $line" ;;
+    esac
+done
+
+echo "$passed passed, $failed failed"
+[[ $failed -eq 0 ]]
