@@ -1,2 +1,163 @@
+!> The command line: parses options, and for each deck calls the reader, the analysis and the
+!> writers. The only place where an error_t becomes an exit status.
 program cfrd_main
+    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
+    use cfrd_error, only: error_t, fatal_error, error_status, usage_error
+    use cfrd_version, only: cfrd_version_string
+    use cfrd_model, only: model_t
+    use cfrd_results, only: results_t
+    use cfrd_deck, only: read_deck
+    use cfrd_linear_static, only: solve_linear_static
+    use cfrd_listing, only: write_listing, write_summary
+    use cfrd_hdf5, only: write_results_h5
+    use cfrd_files, only: move_file, delete_file, base_name, strip_extension
+    implicit none
+
+    type :: options_t
+        logical :: check_only = .false.
+        logical :: quiet = .false.
+        character(len=:), allocatable :: out_dir
+    end type options_t
+
+    type(options_t) :: options
+    character(len=:), allocatable :: decks(:)
+    type(error_t), allocatable :: error
+    integer :: i, status, worst
+
+    call parse_command_line(options, decks, error)
+    if (allocated(error)) then
+        write (error_unit, '(a)') 'cfrd: '//error%message
+        write (error_unit, '(a)') "Try 'cfrd --help'."
+        call exit(error_status(error))
+    end if
+
+    worst = 0
+    do i = 1, size(decks)
+        call run_deck(trim(decks(i)), options, status)
+        worst = max(worst, status)
+    end do
+    call exit(worst)
+
+contains
+
+    subroutine run_deck(path, options, status)
+        character(len=*), intent(in) :: path
+        type(options_t), intent(in) :: options
+        integer, intent(out) :: status
+        type(model_t) :: model
+        type(results_t) :: results
+        type(error_t), allocatable :: error
+        character(len=:), allocatable :: stem
+
+        status = 0
+        call read_deck(path, model, error)
+        if (.not. allocated(error) .and. options%check_only) then
+            if (.not. options%quiet) write (output_unit, '(a,i0,a,i0,a)') path//': OK (', &
+                model%mesh%nnode, ' nodes, ', model%mesh%nelem, ' elements)'
+            return
+        end if
+        if (.not. allocated(error)) call solve_linear_static(model, results, error)
+        if (.not. allocated(error)) then
+            if (allocated(options%out_dir)) then
+                stem = options%out_dir//'/'//strip_extension(base_name(path))
+            else
+                stem = strip_extension(path)
+            end if
+            call write_results(stem, model, results, error)
+        end if
+        if (allocated(error)) then
+            write (error_unit, '(a)') 'cfrd: '//error%message
+            status = error_status(error)
+            return
+        end if
+        if (.not. options%quiet) then
+            call write_summary(output_unit, model, results)
+            write (output_unit, '(a)') 'Results: '//stem//'.out, '//stem//'.h5'
+        end if
+    end subroutine run_deck
+
+    !> Write both result files under temporary names, then rename them into place, so that a
+    !> failed run leaves the results of an earlier run untouched.
+    subroutine write_results(stem, model, results, error)
+        character(len=*), intent(in) :: stem
+        type(model_t), intent(in) :: model
+        type(results_t), intent(in) :: results
+        type(error_t), allocatable, intent(out) :: error
+        character(len=*), parameter :: part = '.part'
+        call write_listing(stem//'.out'//part, model, results, error)
+        if (.not. allocated(error)) call write_results_h5(stem//'.h5'//part, model, results, &
+                                                          error)
+        if (.not. allocated(error)) call move_file(stem//'.out'//part, stem//'.out', error)
+        if (.not. allocated(error)) call move_file(stem//'.h5'//part, stem//'.h5', error)
+        if (allocated(error)) then
+            call delete_file(stem//'.out'//part)
+            call delete_file(stem//'.h5'//part)
+        end if
+    end subroutine write_results
+
+    subroutine parse_command_line(options, decks, error)
+        type(options_t), intent(out) :: options
+        character(len=:), allocatable, intent(out) :: decks(:)
+        type(error_t), allocatable, intent(out) :: error
+        character(len=4096) :: arg
+        integer :: i, n, ndeck
+        n = command_argument_count()
+        allocate (character(len=4096) :: decks(n))
+        ndeck = 0
+        i = 0
+        do while (i < n)
+            i = i + 1
+            call get_command_argument(i, arg)
+            select case (trim(arg))
+            case ('-h', '--help')
+                call print_help()
+                call exit(0)
+            case ('-V', '--version')
+                write (output_unit, '(a)') 'cfrd '//cfrd_version_string
+                call exit(0)
+            case ('--check')
+                options%check_only = .true.
+            case ('-q', '--quiet')
+                options%quiet = .true.
+            case ('-o', '--out')
+                if (i == n) then
+                    call fatal_error(error, 'option '//trim(arg)//' needs a directory', &
+                                     usage_error)
+                    return
+                end if
+                i = i + 1
+                call get_command_argument(i, arg)
+                options%out_dir = trim(arg)
+            case default
+                if (arg(1:1) == '-') then
+                    call fatal_error(error, "unknown option '"//trim(arg)//"'", usage_error)
+                    return
+                end if
+                ndeck = ndeck + 1
+                decks(ndeck) = arg
+            end select
+        end do
+        if (ndeck == 0) then
+            call fatal_error(error, 'no deck given', usage_error)
+            return
+        end if
+        decks = decks(1:ndeck)
+    end subroutine parse_command_line
+
+    subroutine print_help()
+        write (output_unit, '(a)') &
+            'Usage: cfrd [options] DECK [DECK ...]', &
+            '', &
+            'Runs each card deck (docs/cards.md) and writes DECK.out (listing) and DECK.h5', &
+            '(results, docs/results.md) beside it, or in --out DIR.', &
+            '', &
+            'Options:', &
+            '  --check       read and validate the decks only', &
+            '  --out DIR     write results into DIR (it must exist)', &
+            '  --quiet       print nothing but errors', &
+            '  --version     print the version', &
+            '  --help        print this help', &
+            '', &
+            'Exit status: 0 all decks ran, 1 a numerical or file failure, 2 bad input or usage.'
+    end subroutine print_help
 end program cfrd_main

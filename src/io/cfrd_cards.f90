@@ -1,0 +1,383 @@
+!> Card images: reading a deck into cards with their line numbers, cutting fields by column
+!> (fixed format) or by comma (free format, column 1 = '&'), and strict parsing of integer,
+!> real and text fields. Every problem becomes one message that names the file, line, column
+!> range and field: `dam.dat:37:1-10: field E of MATERIALS 3: expected a real > 0, found '-3e4'`.
+!> A card layout is data (an array of `field_t`), so new cards need no new parsing code.
+module cfrd_cards
+    use cfrd_kinds, only: dp
+    use cfrd_error, only: error_t, fatal_error, input_error
+    implicit none
+    private
+
+    public :: card_t, field_t, deck_lines_t
+    public :: int_field, real_field, text_field, card_columns
+    public :: read_deck_lines, classify_line, field_text, get_int, get_real, get_text
+    public :: field_error, card_error, line_error, upper, is_comment, to_text
+
+    !> Width of a fixed-format card.
+    integer, parameter :: card_columns = 80
+
+    integer, parameter :: int_field = 1, real_field = 2, text_field = 3
+
+    !> One field of a card layout: name, first column, width, kind.
+    type :: field_t
+        character(len=8) :: name = ''
+        integer :: first = 1
+        integer :: width = 0
+        integer :: kind = int_field
+    end type field_t
+
+    !> One card: where it came from and its text; free-format cards keep their comma tokens.
+    type :: card_t
+        integer :: line = 0
+        character(len=:), allocatable :: text
+        logical :: free = .false.
+        integer, allocatable :: token_first(:), token_last(:)  !! columns of free tokens
+    end type card_t
+
+    !> A deck file as lines.
+    type :: deck_lines_t
+        character(len=:), allocatable :: file
+        character(len=:), allocatable :: text      !! the whole file, CR removed
+        integer, allocatable :: first(:), last(:)  !! each line's span in text
+    end type deck_lines_t
+
+contains
+
+    !> Read a whole file; split it into lines (LF or CRLF). An unreadable file is an error.
+    subroutine read_deck_lines(path, deck, error)
+        character(len=*), intent(in) :: path
+        type(deck_lines_t), intent(out) :: deck
+        type(error_t), allocatable, intent(out) :: error
+        character(len=:), allocatable :: raw
+        integer :: unit, stat, size_bytes, i, n, start, k
+        logical :: exists
+        character(len=256) :: msg
+
+        deck%file = path
+        inquire (file=path, exist=exists, size=size_bytes)
+        if (.not. exists) then
+            call fatal_error(error, path//': no such deck file', input_error)
+            return
+        end if
+        allocate (character(len=max(size_bytes, 0)) :: raw)
+        if (size_bytes > 0) then
+            open (newunit=unit, file=path, access='stream', form='unformatted', &
+                  status='old', action='read', iostat=stat, iomsg=msg)
+            if (stat /= 0) then
+                call fatal_error(error, path//': cannot open the deck: '//trim(msg), input_error)
+                return
+            end if
+            read (unit, iostat=stat, iomsg=msg) raw
+            close (unit)
+            if (stat /= 0) then
+                call fatal_error(error, path//': cannot read the deck: '//trim(msg), input_error)
+                return
+            end if
+        end if
+        ! Drop carriage returns (CRLF files) and count lines.
+        allocate (character(len=len(raw)) :: deck%text)
+        k = 0
+        n = 0
+        do i = 1, len(raw)
+            if (raw(i:i) == achar(13)) cycle
+            k = k + 1
+            deck%text(k:k) = raw(i:i)
+            if (raw(i:i) == achar(10)) n = n + 1
+        end do
+        deck%text = deck%text(1:k)
+        if (k > 0) then
+            if (deck%text(k:k) /= achar(10)) n = n + 1
+        end if
+        allocate (deck%first(n), deck%last(n))
+        start = 1
+        n = 0
+        do i = 1, k
+            if (deck%text(i:i) == achar(10)) then
+                n = n + 1
+                deck%first(n) = start
+                deck%last(n) = i - 1
+                start = i + 1
+            end if
+        end do
+        if (start <= k) then
+            n = n + 1
+            deck%first(n) = start
+            deck%last(n) = k
+        end if
+    end subroutine read_deck_lines
+
+    !> Comment cards: '*' in column 1, 'C' alone or followed by a blank; blank lines too.
+    pure logical function is_comment(text)
+        character(len=*), intent(in) :: text
+        if (len_trim(text) == 0) then
+            is_comment = .true.
+        else if (text(1:1) == '*') then
+            is_comment = .true.
+        else if (text(1:1) == 'C' .or. text(1:1) == 'c') then
+            if (len(text) == 1) then
+                is_comment = .true.
+            else
+                is_comment = text(2:2) == ' '
+            end if
+        else
+            is_comment = .false.
+        end if
+    end function is_comment
+
+    !> Make a card of line `line` (text without its line end): free format when column 1 is
+    !> '&' (tokens split at commas), else fixed format, checked for tabs and for text beyond
+    !> column 80.
+    subroutine classify_line(file, line, text, card, error)
+        character(len=*), intent(in) :: file, text
+        integer, intent(in) :: line
+        type(card_t), intent(out) :: card
+        type(error_t), allocatable, intent(out) :: error
+        integer :: i, n, start, tab
+        card%line = line
+        if (text(1:1) == '&') then
+            card%free = .true.
+            card%text = text
+            n = 1
+            do i = 2, len(text)
+                if (text(i:i) == ',') n = n + 1
+            end do
+            allocate (card%token_first(n), card%token_last(n))
+            start = 2
+            n = 0
+            do i = 2, len(text) + 1
+                if (i == len(text) + 1) then
+                    n = n + 1
+                    card%token_first(n) = start
+                    card%token_last(n) = i - 1
+                else if (text(i:i) == ',') then
+                    n = n + 1
+                    card%token_first(n) = start
+                    card%token_last(n) = i - 1
+                    start = i + 1
+                end if
+            end do
+            return
+        end if
+        tab = index(text, achar(9))
+        if (tab > 0) then
+            call line_error(error, file, line, tab, tab, 'a tab character on a fixed-format '// &
+                            'card: columns cannot be counted; use blanks (or an & card)')
+            return
+        end if
+        if (len(text) > card_columns) then
+            if (len_trim(text(card_columns + 1:)) > 0) then
+                call line_error(error, file, line, card_columns + 1, len_trim(text), &
+                                'text beyond column 80 on a fixed-format card: '// &
+                                "found '"//trim(text(card_columns + 1:))// &
+                                "' (use an & card for longer lines)")
+                return
+            end if
+        end if
+        card%text = text
+    end subroutine classify_line
+
+    !> The text of field `k` of a layout on a card, and its column range; blank if absent.
+    subroutine field_text(card, fields, k, text, first, last)
+        type(card_t), intent(in) :: card
+        type(field_t), intent(in) :: fields(:)
+        integer, intent(in) :: k
+        character(len=:), allocatable, intent(out) :: text
+        integer, intent(out) :: first, last
+        if (card%free) then
+            if (k <= size(card%token_first)) then
+                first = card%token_first(k)
+                last = card%token_last(k)
+                text = card%text(first:last)
+                if (last < first) then
+                    last = first
+                    text = ''
+                end if
+            else
+                first = len(card%text) + 1
+                last = first
+                text = ''
+            end if
+        else
+            first = fields(k)%first
+            last = fields(k)%first + fields(k)%width - 1
+            if (first > len(card%text)) then
+                text = ''
+            else
+                text = card%text(first:min(last, len(card%text)))
+            end if
+        end if
+    end subroutine field_text
+
+    !> Integer field k: `value` (default when blank); `given` says whether it was not blank.
+    subroutine get_int(file, card, fields, k, context, default, value, error, given)
+        character(len=*), intent(in) :: file, context
+        type(card_t), intent(in) :: card
+        type(field_t), intent(in) :: fields(:)
+        integer, intent(in) :: k, default
+        integer, intent(out) :: value
+        type(error_t), allocatable, intent(out) :: error
+        logical, intent(out), optional :: given
+        character(len=:), allocatable :: text
+        integer :: first, last, stat
+        call field_text(card, fields, k, text, first, last)
+        if (present(given)) given = len_trim(text) > 0
+        value = default
+        if (len_trim(text) == 0) return
+        if (.not. is_integer(trim(adjustl(text)))) then
+            call field_error(error, file, card, fields, k, context, 'an integer', text)
+            return
+        end if
+        read (text, *, iostat=stat) value
+        if (stat /= 0) call field_error(error, file, card, fields, k, context, &
+                                        'an integer of at most 9 digits', text)
+    end subroutine get_int
+
+    !> Real field k (Fortran syntax, E or D exponent); default when blank.
+    subroutine get_real(file, card, fields, k, context, default, value, error, given)
+        character(len=*), intent(in) :: file, context
+        type(card_t), intent(in) :: card
+        type(field_t), intent(in) :: fields(:)
+        integer, intent(in) :: k
+        real(dp), intent(in) :: default
+        real(dp), intent(out) :: value
+        type(error_t), allocatable, intent(out) :: error
+        logical, intent(out), optional :: given
+        character(len=:), allocatable :: text, number
+        integer :: first, last, stat, i
+        call field_text(card, fields, k, text, first, last)
+        if (present(given)) given = len_trim(text) > 0
+        value = default
+        if (len_trim(text) == 0) return
+        number = trim(adjustl(text))
+        if (.not. is_real(number)) then
+            call field_error(error, file, card, fields, k, context, 'a real number', text)
+            return
+        end if
+        do i = 1, len(number)
+            if (number(i:i) == 'd' .or. number(i:i) == 'D') number(i:i) = 'e'
+        end do
+        read (number, *, iostat=stat) value
+        if (stat /= 0 .or. abs(value) > huge(value)) then
+            call field_error(error, file, card, fields, k, context, 'a finite real number', text)
+        end if
+    end subroutine get_real
+
+    !> Text field k, blanks trimmed at both ends.
+    subroutine get_text(card, fields, k, value)
+        type(card_t), intent(in) :: card
+        type(field_t), intent(in) :: fields(:)
+        integer, intent(in) :: k
+        character(len=:), allocatable, intent(out) :: value
+        character(len=:), allocatable :: text
+        integer :: first, last
+        call field_text(card, fields, k, text, first, last)
+        value = trim(adjustl(text))
+    end subroutine get_text
+
+    !> `file:line:c1-c2: field NAME of CONTEXT: expected WHAT, found 'TEXT'`.
+    subroutine field_error(error, file, card, fields, k, context, expected, found)
+        type(error_t), allocatable, intent(out) :: error
+        character(len=*), intent(in) :: file, context, expected, found
+        type(card_t), intent(in) :: card
+        type(field_t), intent(in) :: fields(:)
+        integer, intent(in) :: k
+        character(len=:), allocatable :: text
+        integer :: first, last
+        call field_text(card, fields, k, text, first, last)
+        call line_error(error, file, card%line, first, last, 'field '//trim(fields(k)%name)// &
+                        ' of '//context//': expected '//expected//", found '"// &
+                        trim(adjustl(found))//"'")
+    end subroutine field_error
+
+    !> `file:line: message` for a problem of a whole card.
+    subroutine card_error(error, file, card, message)
+        type(error_t), allocatable, intent(out) :: error
+        character(len=*), intent(in) :: file, message
+        type(card_t), intent(in) :: card
+        call fatal_error(error, file//':'//to_text(card%line)//': '//message, input_error)
+    end subroutine card_error
+
+    !> `file:line:c1-c2: message`.
+    subroutine line_error(error, file, line, first, last, message)
+        type(error_t), allocatable, intent(out) :: error
+        character(len=*), intent(in) :: file, message
+        integer, intent(in) :: line, first, last
+        call fatal_error(error, file//':'//to_text(line)//':'//to_text(first)//'-'// &
+                         to_text(last)//': '//message, input_error)
+    end subroutine line_error
+
+    !> [sign] digits, nothing else.
+    pure logical function is_integer(s)
+        character(len=*), intent(in) :: s
+        integer :: i, start
+        is_integer = .false.
+        if (len(s) == 0) return
+        start = 1
+        if (s(1:1) == '+' .or. s(1:1) == '-') start = 2
+        if (start > len(s)) return
+        if (len(s) - start + 1 > 9) return
+        do i = start, len(s)
+            if (s(i:i) < '0' .or. s(i:i) > '9') return
+        end do
+        is_integer = .true.
+    end function is_integer
+
+    !> [sign] (digits [. [digits]] | . digits) [(E|D) [sign] digits], nothing else.
+    pure logical function is_real(s)
+        character(len=*), intent(in) :: s
+        integer :: i, mantissa_digits, exponent_digits
+        logical :: seen_dot
+        is_real = .false.
+        i = 1
+        if (len(s) == 0) return
+        if (s(1:1) == '+' .or. s(1:1) == '-') i = 2
+        mantissa_digits = 0
+        seen_dot = .false.
+        do while (i <= len(s))
+            if (s(i:i) >= '0' .and. s(i:i) <= '9') then
+                mantissa_digits = mantissa_digits + 1
+            else if (s(i:i) == '.' .and. .not. seen_dot) then
+                seen_dot = .true.
+            else
+                exit
+            end if
+            i = i + 1
+        end do
+        if (mantissa_digits == 0) return
+        if (i > len(s)) then
+            is_real = .true.
+            return
+        end if
+        if (index('eEdD', s(i:i)) == 0) return
+        i = i + 1
+        if (i <= len(s)) then
+            if (s(i:i) == '+' .or. s(i:i) == '-') i = i + 1
+        end if
+        exponent_digits = 0
+        do while (i <= len(s))
+            if (s(i:i) < '0' .or. s(i:i) > '9') return
+            exponent_digits = exponent_digits + 1
+            i = i + 1
+        end do
+        is_real = exponent_digits > 0
+    end function is_real
+
+    pure function upper(s) result(u)
+        character(len=*), intent(in) :: s
+        character(len=len(s)) :: u
+        integer :: i
+        u = s
+        do i = 1, len(s)
+            if (s(i:i) >= 'a' .and. s(i:i) <= 'z') u(i:i) = achar(iachar(s(i:i)) - 32)
+        end do
+    end function upper
+
+    pure function to_text(i) result(s)
+        integer, intent(in) :: i
+        character(len=:), allocatable :: s
+        character(len=16) :: buffer
+        write (buffer, '(i0)') i
+        s = trim(buffer)
+    end function to_text
+end module cfrd_cards

@@ -1,0 +1,914 @@
+!> The deck reader: a card deck (docs/cards.md) in, a validated `model_t` out. Cards are
+!> grouped under header cards; groups may come in any order and are processed in the order
+!> their dependencies need (CONTROL, MATERIALS, NODES, ELEMENTS, BOUNDARY, LOADS).
+!> Every problem is an input error naming file, line, columns and field.
+module cfrd_deck
+    use cfrd_kinds, only: dp
+    use cfrd_error, only: error_t, fatal_error, input_error
+    use cfrd_model, only: model_t, material_t, gravity_load_t, pressure_load_t, &
+                          plane_strain, axisymmetric, law_elastic, elem_quad4, all_groups
+    use cfrd_model_check, only: element_shape, first_unused_node, free_rigid_mode, &
+                                shape_ok, shape_degenerate
+    use cfrd_cards, only: card_t, field_t, deck_lines_t, int_field, real_field, text_field, &
+                          read_deck_lines, classify_line, get_int, get_real, get_text, &
+                          field_error, card_error, upper, is_comment, to_text
+    implicit none
+    private
+
+    public :: read_deck, group_keywords
+
+    integer, parameter :: g_title = 1, g_control = 2, g_nodes = 3, g_elements = 4, &
+                          g_materials = 5, g_boundary = 6, g_loads = 7, ngroups = 7
+    character(len=10), parameter :: group_keywords(ngroups) = [character(len=10) :: &
+                                    'TITLE', 'CONTROL', 'NODES', 'ELEMENTS', 'MATERIALS', &
+                                    'BOUNDARY', 'LOADS']
+    character(len=*), parameter :: valid_groups = 'TITLE, CONTROL, NODES, ELEMENTS, '// &
+                                   'MATERIALS, BOUNDARY, LOADS, END'
+    logical, parameter :: group_required(ngroups) = [.false., .false., .true., .true., &
+                                                     .true., .true., .false.]
+    character(len=10), parameter :: load_keywords(3) = [character(len=10) :: 'GRAVITY', &
+                                                        'FORCE', 'PRESSURE']
+
+    !> Largest node or element number accepted when the CONTROL card gives no count
+    !> (guards against a mistyped number allocating gigabytes).
+    integer, parameter :: max_number = 10000000
+
+    ! Card layouts (docs/cards.md): name, first column, width, kind.
+    type(field_t), parameter :: control_fields(7) = [ &
+                                field_t('NNODE', 1, 5, int_field), &
+                                field_t('NELEM', 6, 5, int_field), &
+                                field_t('NMAT', 11, 5, int_field), &
+                                field_t('MODEL', 16, 5, int_field), &
+                                field_t('PA', 21, 10, real_field), &
+                                field_t('GAMMAW', 31, 10, real_field), &
+                                field_t('UNITS', 41, 10, text_field)]
+    type(field_t), parameter :: node_fields(7) = [ &
+                                field_t('N1', 1, 5, int_field), &
+                                field_t('N2', 6, 5, int_field), &
+                                field_t('INC', 11, 5, int_field), &
+                                field_t('X1', 16, 10, real_field), &
+                                field_t('Y1', 26, 10, real_field), &
+                                field_t('X2', 36, 10, real_field), &
+                                field_t('Y2', 46, 10, real_field)]
+    type(field_t), parameter :: element_fields(9) = [ &
+                                field_t('NE', 1, 5, int_field), &
+                                field_t('I', 6, 5, int_field), &
+                                field_t('J', 11, 5, int_field), &
+                                field_t('K', 16, 5, int_field), &
+                                field_t('L', 21, 5, int_field), &
+                                field_t('MAT', 26, 5, int_field), &
+                                field_t('NGEN', 31, 5, int_field), &
+                                field_t('NINC', 36, 5, int_field), &
+                                field_t('GROUP', 41, 10, text_field)]
+    type(field_t), parameter :: material_fields(3) = [ &
+                                field_t('M', 1, 5, int_field), &
+                                field_t('LAW', 6, 10, text_field), &
+                                field_t('LABEL', 16, 65, text_field)]
+    type(field_t), parameter :: elastic_fields(3) = [ &
+                                field_t('E', 1, 10, real_field), &
+                                field_t('NU', 11, 10, real_field), &
+                                field_t('GAMMA', 21, 10, real_field)]
+    type(field_t), parameter :: boundary_fields(7) = [ &
+                                field_t('N1', 1, 5, int_field), &
+                                field_t('N2', 6, 5, int_field), &
+                                field_t('INC', 11, 5, int_field), &
+                                field_t('IX', 16, 5, int_field), &
+                                field_t('IY', 21, 5, int_field), &
+                                field_t('UX', 26, 10, real_field), &
+                                field_t('UY', 36, 10, real_field)]
+    type(field_t), parameter :: gravity_fields(4) = [ &
+                                field_t('KEYWORD', 1, 10, text_field), &
+                                field_t('GROUP', 11, 10, text_field), &
+                                field_t('AX', 21, 10, real_field), &
+                                field_t('AY', 31, 10, real_field)]
+    type(field_t), parameter :: force_fields(6) = [ &
+                                field_t('KEYWORD', 1, 10, text_field), &
+                                field_t('N1', 11, 5, int_field), &
+                                field_t('N2', 16, 5, int_field), &
+                                field_t('INC', 21, 5, int_field), &
+                                field_t('FX', 26, 10, real_field), &
+                                field_t('FY', 36, 10, real_field)]
+    type(field_t), parameter :: pressure_fields(5) = [ &
+                                field_t('KEYWORD', 1, 10, text_field), &
+                                field_t('ELEM', 11, 5, int_field), &
+                                field_t('FACE', 16, 5, int_field), &
+                                field_t('P1', 21, 10, real_field), &
+                                field_t('P2', 31, 10, real_field)]
+
+    !> The cards of one group, in deck order.
+    type :: group_cards_t
+        logical :: present = .false.
+        integer :: header_line = 0
+        integer :: n = 0
+        type(card_t), allocatable :: cards(:)
+    end type group_cards_t
+
+    !> Counts announced on the CONTROL card (0 = not given) and where they stand.
+    type :: counts_t
+        integer :: nnode = 0, nelem = 0, nmat = 0
+        integer :: line = 0
+    end type counts_t
+
+contains
+
+    !> Read and validate the deck at `path` into `model`.
+    subroutine read_deck(path, model, error)
+        character(len=*), intent(in) :: path
+        type(model_t), intent(out) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(deck_lines_t) :: lines
+        type(group_cards_t) :: groups(ngroups)
+        type(counts_t) :: counts
+        integer, allocatable :: node_line(:), element_line(:)
+
+        call read_deck_lines(path, lines, error)
+        if (allocated(error)) return
+        model%deck_file = path
+        model%deck_text = lines%text
+        model%title = ''
+        model%units = 'KN-M'
+        call sort_into_groups(lines, groups, model%title, error)
+        if (allocated(error)) return
+        call read_control(path, groups(g_control), model, counts, error)
+        if (allocated(error)) return
+        call read_materials(path, groups(g_materials), counts, model, error)
+        if (allocated(error)) return
+        call read_nodes(path, groups(g_nodes), counts, model, node_line, error)
+        if (allocated(error)) return
+        call read_elements(path, groups(g_elements), counts, model, element_line, error)
+        if (allocated(error)) return
+        call read_boundary(path, groups(g_boundary), model, error)
+        if (allocated(error)) return
+        call read_loads(path, groups(g_loads), model, error)
+        if (allocated(error)) return
+        call check_model(path, groups, model, node_line, element_line, error)
+    end subroutine read_deck
+
+    !> Split the deck into groups at header cards; stop at END or STOP.
+    subroutine sort_into_groups(lines, groups, title, error)
+        type(deck_lines_t), intent(in) :: lines
+        type(group_cards_t), intent(inout) :: groups(:)
+        character(len=:), allocatable, intent(inout) :: title
+        type(error_t), allocatable, intent(out) :: error
+        type(card_t) :: card
+        character(len=:), allocatable :: text, word
+        integer :: line, current, g
+        logical :: ended
+        current = 0
+        ended = .false.
+        do line = 1, size(lines%first)
+            text = lines%text(lines%first(line):lines%last(line))
+            if (is_comment(text)) cycle
+            call classify_line(lines%file, line, text, card, error)
+            if (allocated(error)) return
+            word = leading_word(card)
+            if (len(word) > 0) then
+                if (word == 'END' .or. word == 'STOP') then
+                    ended = .true.
+                    exit
+                end if
+                g = position(group_keywords, word)
+                if (g > 0 .and. .not. card%free) then
+                    if (groups(g)%present) then
+                        call card_error(error, lines%file, card, 'duplicate group '//word// &
+                                        ' (first at line '//to_text(groups(g)%header_line)// &
+                                        '): each group may appear once')
+                        return
+                    end if
+                    groups(g)%present = .true.
+                    groups(g)%header_line = line
+                    current = g
+                    if (g == g_title .and. len(text) > 10) title = trim(adjustl(text(11:)))
+                    cycle
+                end if
+                if (.not. (current == g_loads .and. any(load_keywords == word))) then
+                    if (current == g_loads) then
+                        call card_error(error, lines%file, card, "unknown load '"//word// &
+                                        "' in LOADS: expected GRAVITY, FORCE or PRESSURE")
+                    else
+                        call card_error(error, lines%file, card, "unknown group '"//word// &
+                                        "': expected one of "//valid_groups)
+                    end if
+                    return
+                end if
+            end if
+            if (current == 0) then
+                call card_error(error, lines%file, card, 'data card before any group '// &
+                                'header: a deck starts with a header card such as NODES')
+                return
+            end if
+            if (current == g_title) then
+                call card_error(error, lines%file, card, 'TITLE takes no data cards: '// &
+                                'the title is columns 11-80 of the TITLE card')
+                return
+            end if
+            call append_card(groups(current), card)
+        end do
+        if (.not. ended) then
+            call fatal_error(error, lines%file//': no END card: is the deck truncated? '// &
+                             '(a deck ends with END or STOP)', input_error)
+            return
+        end if
+        do g = 1, ngroups
+            if (group_required(g) .and. .not. groups(g)%present) then
+                call fatal_error(error, lines%file//': missing group '// &
+                                 trim(group_keywords(g))//' (required: NODES, ELEMENTS, '// &
+                                 'MATERIALS, BOUNDARY)', input_error)
+                return
+            end if
+        end do
+    end subroutine sort_into_groups
+
+    !> The upper-case word that starts a card (columns 1-10, or the first free token) when it
+    !> starts with a letter; '' otherwise.
+    function leading_word(card) result(word)
+        type(card_t), intent(in) :: card
+        character(len=:), allocatable :: word
+        character(len=:), allocatable :: head
+        if (card%free) then
+            head = card%text(card%token_first(1):max(card%token_last(1), &
+                                                     card%token_first(1) - 1))
+        else
+            head = card%text(1:min(10, len(card%text)))
+        end if
+        word = trim(adjustl(upper(head)))
+        if (len(word) == 0) return
+        if (.not. ((word(1:1) >= 'A' .and. word(1:1) <= 'Z'))) word = ''
+    end function leading_word
+
+    subroutine append_card(group, card)
+        type(group_cards_t), intent(inout) :: group
+        type(card_t), intent(in) :: card
+        type(card_t), allocatable :: grown(:)
+        if (.not. allocated(group%cards)) allocate (group%cards(64))
+        if (group%n == size(group%cards)) then
+            allocate (grown(2*group%n))
+            grown(1:group%n) = group%cards(1:group%n)
+            call move_alloc(grown, group%cards)
+        end if
+        group%n = group%n + 1
+        group%cards(group%n) = card
+    end subroutine append_card
+
+    subroutine read_control(file, group, model, counts, error)
+        character(len=*), intent(in) :: file
+        type(group_cards_t), intent(in) :: group
+        type(model_t), intent(inout) :: model
+        type(counts_t), intent(out) :: counts
+        type(error_t), allocatable, intent(out) :: error
+        character(len=:), allocatable :: units
+        character(len=*), parameter :: ctx = 'CONTROL'
+        integer :: k, counts_read(3)
+        if (.not. group%present) return
+        if (group%n /= 1) then
+            call fatal_error(error, file//':'//to_text(group%header_line)//': CONTROL takes '// &
+                             'exactly one data card, found '//to_text(group%n), input_error)
+            return
+        end if
+        associate (card => group%cards(1))
+            counts%line = card%line
+            call get_int(file, card, control_fields, 1, ctx, 0, counts%nnode, error)
+            if (allocated(error)) return
+            call get_int(file, card, control_fields, 2, ctx, 0, counts%nelem, error)
+            if (allocated(error)) return
+            call get_int(file, card, control_fields, 3, ctx, 0, counts%nmat, error)
+            if (allocated(error)) return
+            counts_read = [counts%nnode, counts%nelem, counts%nmat]
+            do k = 1, 3
+                if (counts_read(k) < 0) then
+                    call field_error(error, file, card, control_fields, k, ctx, &
+                                     'a count >= 1 (or blank)', to_text(counts_read(k)))
+                    return
+                end if
+            end do
+            call get_int(file, card, control_fields, 4, ctx, plane_strain, model%analysis, &
+                         error)
+            if (allocated(error)) return
+            if (model%analysis == axisymmetric) then
+                call field_error(error, file, card, control_fields, 4, ctx, &
+                                 '1 (plane strain): axisymmetric analysis is not supported '// &
+                                 'yet', '2')
+                return
+            else if (model%analysis /= plane_strain) then
+                call field_error(error, file, card, control_fields, 4, ctx, &
+                                 '1 (plane strain)', to_text(model%analysis))
+                return
+            end if
+            call get_positive(file, card, control_fields, 5, ctx, 101.325_dp, model%pa, error)
+            if (allocated(error)) return
+            call get_positive(file, card, control_fields, 6, ctx, 9.81_dp, model%gamma_w, error)
+            if (allocated(error)) return
+            call get_text(card, control_fields, 7, units)
+            if (len(units) > 0 .and. upper(units) /= 'KN-M') then
+                call field_error(error, file, card, control_fields, 7, ctx, &
+                                 'KN-M (m, kN, kPa) or blank', units)
+                return
+            end if
+        end associate
+    end subroutine read_control
+
+    subroutine read_materials(file, group, counts, model, error)
+        character(len=*), intent(in) :: file
+        type(group_cards_t), intent(in) :: group
+        type(counts_t), intent(in) :: counts
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        integer, allocatable :: number(:), first_card(:), defined(:)
+        type(material_t), allocatable :: mats(:)
+        character(len=:), allocatable :: law, label, ctx
+        integer :: i, n, m, limit, nmat
+        real(dp) :: value
+        allocate (number(group%n), first_card(group%n), mats(group%n))
+        n = 0
+        i = 1
+        limit = merge(counts%nmat, group%n, counts%nmat > 0)
+        do while (i <= group%n)
+            associate (card => group%cards(i))
+                call get_int(file, card, material_fields, 1, 'MATERIALS', 0, m, error)
+                if (allocated(error)) return
+                ctx = 'MATERIALS '//to_text(m)
+                if (m < 1 .or. m > limit) then
+                    call field_error(error, file, card, material_fields, 1, 'MATERIALS', &
+                                     'a material number from 1 to '//to_text(limit), &
+                                     to_text(m))
+                    return
+                end if
+                call get_text(card, material_fields, 2, law)
+                law = upper(law)
+                if (law /= 'ELASTIC') then
+                    call field_error(error, file, card, material_fields, 2, ctx, &
+                                     'a material law: ELASTIC', law)
+                    return
+                end if
+                call get_text(card, material_fields, 3, label)
+                n = n + 1
+                number(n) = m
+                first_card(n) = i
+                mats(n)%law = law_elastic
+                mats(n)%label = label
+            end associate
+            if (i == group%n) then
+                call card_error(error, file, group%cards(i), 'MATERIALS '//to_text(m)// &
+                                ': missing parameter card (E, NU, GAMMA) after this card')
+                return
+            end if
+            if (is_material_card(group%cards(i + 1))) then
+                call card_error(error, file, group%cards(i + 1), 'MATERIALS '//to_text(m)// &
+                                ': missing parameter card (E, NU, GAMMA) before this card')
+                return
+            end if
+            associate (card => group%cards(i + 1))
+                call get_real(file, card, elastic_fields, 1, ctx, 0.0_dp, value, error)
+                if (allocated(error)) return
+                if (.not. value > 0.0_dp) then
+                    call field_error(error, file, card, elastic_fields, 1, ctx, &
+                                     'a real > 0 (kPa)', real_text(card, elastic_fields, 1))
+                    return
+                end if
+                mats(n)%youngs_modulus = value
+                call get_real(file, card, elastic_fields, 2, ctx, -1.0_dp, value, error)
+                if (allocated(error)) return
+                if (.not. (value >= 0.0_dp .and. value < 0.5_dp)) then
+                    call field_error(error, file, card, elastic_fields, 2, ctx, &
+                                     'a real with 0 <= NU < 0.5', &
+                                     real_text(card, elastic_fields, 2))
+                    return
+                end if
+                mats(n)%poisson_ratio = value
+                call get_real(file, card, elastic_fields, 3, ctx, 0.0_dp, value, error)
+                if (allocated(error)) return
+                if (value < 0.0_dp) then
+                    call field_error(error, file, card, elastic_fields, 3, ctx, &
+                                     'a real >= 0 (kN/m3)', real_text(card, elastic_fields, 3))
+                    return
+                end if
+                mats(n)%unit_weight = value
+            end associate
+            i = i + 2
+        end do
+        nmat = 0
+        if (n > 0) nmat = maxval(number(1:n))
+        allocate (defined(nmat), source=0)
+        allocate (model%materials(nmat))
+        do i = 1, n
+            m = number(i)
+            if (defined(m) > 0) then
+                call card_error(error, file, group%cards(first_card(i)), 'duplicate '// &
+                                'material '//to_text(m)//' (first defined at line '// &
+                                to_text(group%cards(defined(m))%line)//')')
+                return
+            end if
+            defined(m) = first_card(i)
+            model%materials(m) = mats(i)
+        end do
+        call check_numbering(file, group%header_line, 'material', defined, counts%nmat, &
+                             'NMAT', counts%line, error)
+    end subroutine read_materials
+
+    !> A material's first card: its LAW field holds a word.
+    logical function is_material_card(card)
+        type(card_t), intent(in) :: card
+        character(len=:), allocatable :: law
+        call get_text(card, material_fields, 2, law)
+        is_material_card = .false.
+        if (len(law) == 0) return
+        law = upper(law)
+        is_material_card = law(1:1) >= 'A' .and. law(1:1) <= 'Z'
+    end function is_material_card
+
+    subroutine read_nodes(file, group, counts, model, node_line, error)
+        character(len=*), intent(in) :: file
+        type(group_cards_t), intent(in) :: group
+        type(counts_t), intent(in) :: counts
+        type(model_t), intent(inout) :: model
+        integer, allocatable, intent(out) :: node_line(:)
+        type(error_t), allocatable, intent(out) :: error
+        integer, allocatable :: n1(:), n2(:), inc(:)
+        real(dp), allocatable :: p1(:, :), p2(:, :)
+        integer :: i, k, steps, node, limit, nnode
+        logical :: given_x2, given_y2
+        character(len=:), allocatable :: ctx
+        allocate (n1(group%n), n2(group%n), inc(group%n), p1(2, group%n), p2(2, group%n))
+        limit = merge(counts%nnode, max_number, counts%nnode > 0)
+        do i = 1, group%n
+            associate (card => group%cards(i))
+                call get_range(file, card, node_fields, 'NODES', 'node', limit, &
+                               n1(i), n2(i), inc(i), error)
+                if (allocated(error)) return
+                ctx = 'NODES '//to_text(n1(i))
+                call get_real(file, card, node_fields, 4, ctx, 0.0_dp, p1(1, i), error)
+                if (allocated(error)) return
+                call get_real(file, card, node_fields, 5, ctx, 0.0_dp, p1(2, i), error)
+                if (allocated(error)) return
+                call get_real(file, card, node_fields, 6, ctx, 0.0_dp, p2(1, i), error, &
+                              given_x2)
+                if (allocated(error)) return
+                call get_real(file, card, node_fields, 7, ctx, 0.0_dp, p2(2, i), error, &
+                              given_y2)
+                if (allocated(error)) return
+                if (n2(i) > n1(i) .and. .not. (given_x2 .and. given_y2)) then
+                    k = merge(7, 6, given_x2)
+                    call field_error(error, file, card, node_fields, k, ctx, &
+                                     'the coordinate of the last node N2 = '//to_text(n2(i)), &
+                                     '')
+                    return
+                end if
+            end associate
+        end do
+        nnode = 0
+        if (group%n > 0) nnode = maxval(n2)
+        allocate (model%mesh%x(2, nnode), node_line(nnode))
+        node_line = 0
+        do i = 1, group%n
+            steps = (n2(i) - n1(i))/inc(i)
+            do k = 0, steps
+                node = n1(i) + k*inc(i)
+                if (node_line(node) > 0) then
+                    call card_error(error, file, group%cards(i), 'duplicate node '// &
+                                    to_text(node)//' (first defined at line '// &
+                                    to_text(node_line(node))//')')
+                    return
+                end if
+                node_line(node) = group%cards(i)%line
+                if (steps == 0) then
+                    model%mesh%x(:, node) = p1(:, i)
+                else
+                    model%mesh%x(:, node) = p1(:, i) + (p2(:, i) - p1(:, i))*real(k, dp)/steps
+                end if
+            end do
+        end do
+        model%mesh%nnode = nnode
+        call check_numbering(file, group%header_line, 'node', node_line, counts%nnode, &
+                             'NNODE', counts%line, error)
+    end subroutine read_nodes
+
+    !> Fields N1, N2, INC (the first three of `fields`) of a node-range card, checked:
+    !> 1 <= N1 <= N2 <= limit, INC > 0 dividing N2 - N1.
+    subroutine get_range(file, card, fields, group_name, what, limit, n1, n2, inc, error, &
+                         offset)
+        character(len=*), intent(in) :: file, group_name, what
+        type(card_t), intent(in) :: card
+        type(field_t), intent(in) :: fields(:)
+        integer, intent(in) :: limit
+        integer, intent(out) :: n1, n2, inc
+        type(error_t), allocatable, intent(out) :: error
+        integer, intent(in), optional :: offset
+        integer :: f
+        f = 0
+        if (present(offset)) f = offset
+        call get_int(file, card, fields, f + 1, group_name, 0, n1, error)
+        if (allocated(error)) return
+        if (n1 < 1 .or. n1 > limit) then
+            call field_error(error, file, card, fields, f + 1, group_name, &
+                             'a '//what//' number from 1 to '//to_text(limit), &
+                             raw_text(card, fields, f + 1))
+            return
+        end if
+        call get_int(file, card, fields, f + 2, group_name, n1, n2, error)
+        if (allocated(error)) return
+        if (n2 < n1 .or. n2 > limit) then
+            call field_error(error, file, card, fields, f + 2, group_name, &
+                             'a last '//what//' from N1 = '//to_text(n1)//' to '// &
+                             to_text(limit), raw_text(card, fields, f + 2))
+            return
+        end if
+        call get_int(file, card, fields, f + 3, group_name, 1, inc, error)
+        if (allocated(error)) return
+        if (inc < 1) then
+            call field_error(error, file, card, fields, f + 3, group_name, &
+                             'an increment >= 1', raw_text(card, fields, f + 3))
+            return
+        end if
+        if (mod(n2 - n1, inc) /= 0) then
+            call field_error(error, file, card, fields, f + 3, group_name, &
+                             'an increment that divides N2 - N1 = '//to_text(n2 - n1), &
+                             raw_text(card, fields, f + 3))
+            return
+        end if
+    end subroutine get_range
+
+    subroutine read_elements(file, group, counts, model, element_line, error)
+        character(len=*), intent(in) :: file
+        type(group_cards_t), intent(in) :: group
+        type(counts_t), intent(in) :: counts
+        type(model_t), intent(inout) :: model
+        integer, allocatable, intent(out) :: element_line(:)
+        type(error_t), allocatable, intent(out) :: error
+        integer, allocatable :: first(:), nodes(:, :), mat(:), ngen(:), ninc(:), grp(:)
+        character(len=10), allocatable :: names(:)
+        character(len=:), allocatable :: name, ctx
+        integer :: i, k, g, e, limit, nelem, nnode, a, b
+        allocate (first(group%n), nodes(4, group%n), mat(group%n), ngen(group%n), &
+                  ninc(group%n), grp(group%n), names(0))
+        limit = merge(counts%nelem, max_number, counts%nelem > 0)
+        nnode = model%mesh%nnode
+        do i = 1, group%n
+            associate (card => group%cards(i))
+                call get_int(file, card, element_fields, 1, 'ELEMENTS', 0, first(i), error)
+                if (allocated(error)) return
+                if (first(i) < 1 .or. first(i) > limit) then
+                    call field_error(error, file, card, element_fields, 1, 'ELEMENTS', &
+                                     'an element number from 1 to '//to_text(limit), &
+                                     raw_text(card, element_fields, 1))
+                    return
+                end if
+                ctx = 'ELEMENTS '//to_text(first(i))
+                call get_int(file, card, element_fields, 7, ctx, 0, ngen(i), error)
+                if (allocated(error)) return
+                if (ngen(i) < 0 .or. first(i) + ngen(i) > limit) then
+                    call field_error(error, file, card, element_fields, 7, ctx, &
+                                     'a count from 0 to '//to_text(limit - first(i)), &
+                                     raw_text(card, element_fields, 7))
+                    return
+                end if
+                call get_int(file, card, element_fields, 8, ctx, 1, ninc(i), error)
+                if (allocated(error)) return
+                do k = 1, 4
+                    call get_int(file, card, element_fields, k + 1, ctx, 0, nodes(k, i), &
+                                 error)
+                    if (allocated(error)) return
+                    if (k == 4 .and. nodes(4, i) == 0) nodes(4, i) = nodes(3, i)
+                    ! Every generated element's node must exist too.
+                    a = nodes(k, i)
+                    b = nodes(k, i) + ngen(i)*ninc(i)
+                    if (min(a, b) < 1 .or. max(a, b) > nnode) then
+                        call field_error(error, file, card, element_fields, k + 1, ctx, &
+                                         'a node from 1 to '//to_text(nnode)// &
+                                         trim(merge(' for every generated element', &
+                                                    '                            ', &
+                                                    ngen(i) > 0)), &
+                                         raw_text(card, element_fields, k + 1))
+                        return
+                    end if
+                end do
+                if (nodes(1, i) == nodes(2, i) .or. nodes(1, i) == nodes(3, i) .or. &
+                    nodes(2, i) == nodes(3, i) .or. nodes(4, i) == nodes(1, i) .or. &
+                    nodes(4, i) == nodes(2, i)) then
+                    call card_error(error, file, card, 'element '//to_text(first(i))// &
+                                    ' repeats a node: nodes must be distinct '// &
+                                    '(L = K or blank makes a triangle)')
+                    return
+                end if
+                call get_int(file, card, element_fields, 6, ctx, 0, mat(i), error)
+                if (allocated(error)) return
+                if (mat(i) < 1 .or. mat(i) > size(model%materials)) then
+                    call field_error(error, file, card, element_fields, 6, ctx, &
+                                     'a material number from 1 to '// &
+                                     to_text(size(model%materials)), &
+                                     raw_text(card, element_fields, 6))
+                    return
+                end if
+                call get_text(card, element_fields, 9, name)
+                name = upper(name)
+                grp(i) = 0
+                if (len(name) > 0) then
+                    grp(i) = position(names, name)
+                    if (grp(i) == 0) then
+                        names = [character(len=10) :: names, name]
+                        grp(i) = size(names)
+                    end if
+                end if
+            end associate
+        end do
+        nelem = 0
+        do i = 1, group%n
+            nelem = max(nelem, first(i) + ngen(i))
+        end do
+        associate (mesh => model%mesh)
+            mesh%nelem = nelem
+            allocate (mesh%conn(4, nelem), mesh%material(nelem), mesh%group(nelem))
+            allocate (mesh%kind(nelem), source=elem_quad4)
+            mesh%group_name = names
+            allocate (element_line(nelem), source=0)
+            do i = 1, group%n
+                do g = 0, ngen(i)
+                    e = first(i) + g
+                    if (element_line(e) > 0) then
+                        call card_error(error, file, group%cards(i), 'duplicate element '// &
+                                        to_text(e)//' (first defined at line '// &
+                                        to_text(element_line(e))//')')
+                        return
+                    end if
+                    element_line(e) = group%cards(i)%line
+                    mesh%conn(:, e) = nodes(:, i) + g*ninc(i)
+                    mesh%material(e) = mat(i)
+                    mesh%group(e) = grp(i)
+                end do
+            end do
+        end associate
+        call check_numbering(file, group%header_line, 'element', element_line, counts%nelem, &
+                             'NELEM', counts%line, error)
+    end subroutine read_elements
+
+    subroutine read_boundary(file, group, model, error)
+        character(len=*), intent(in) :: file
+        type(group_cards_t), intent(in) :: group
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        integer :: i, n1, n2, inc, code(2), k
+        real(dp) :: value(2)
+        logical :: given(2)
+        character(len=:), allocatable :: ctx
+        allocate (model%fixed(2, model%mesh%nnode), source=.false.)
+        allocate (model%prescribed(2, model%mesh%nnode), source=0.0_dp)
+        do i = 1, group%n
+            associate (card => group%cards(i))
+                call get_range(file, card, boundary_fields, 'BOUNDARY', 'node', &
+                               model%mesh%nnode, n1, n2, inc, error)
+                if (allocated(error)) return
+                ctx = 'BOUNDARY '//to_text(n1)
+                do k = 1, 2
+                    call get_int(file, card, boundary_fields, 3 + k, ctx, 0, code(k), error)
+                    if (allocated(error)) return
+                    if (code(k) /= 0 .and. code(k) /= 1) then
+                        call field_error(error, file, card, boundary_fields, 3 + k, ctx, &
+                                         '0 (free) or 1 (prescribed)', to_text(code(k)))
+                        return
+                    end if
+                    call get_real(file, card, boundary_fields, 5 + k, ctx, 0.0_dp, value(k), &
+                                  error, given(k))
+                    if (allocated(error)) return
+                    if (given(k) .and. code(k) /= 1) then
+                        call field_error(error, file, card, boundary_fields, 5 + k, ctx, &
+                                         'blank: a prescribed value needs '// &
+                                         trim(boundary_fields(3 + k)%name)//' = 1', &
+                                         raw_text(card, boundary_fields, 5 + k))
+                        return
+                    end if
+                end do
+                if (all(code == 0)) then
+                    call card_error(error, file, card, 'BOUNDARY card fixes nothing: '// &
+                                    'set IX and/or IY to 1')
+                    return
+                end if
+                do k = 1, 2
+                    if (code(k) == 1) then
+                        model%fixed(k, n1:n2:inc) = .true.
+                        model%prescribed(k, n1:n2:inc) = value(k)
+                    end if
+                end do
+            end associate
+        end do
+    end subroutine read_boundary
+
+    subroutine read_loads(file, group, model, error)
+        character(len=*), intent(in) :: file
+        type(group_cards_t), intent(in) :: group
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        character(len=:), allocatable :: keyword, name
+        type(gravity_load_t) :: gravity
+        type(pressure_load_t) :: pressure
+        integer :: i, n1, n2, inc, ngravity, npressure
+        real(dp) :: force(2)
+        allocate (model%nodal_force(2, model%mesh%nnode), source=0.0_dp)
+        allocate (model%gravity(group%n), model%pressures(group%n))
+        ngravity = 0
+        npressure = 0
+        do i = 1, group%n
+            associate (card => group%cards(i))
+                call get_text(card, gravity_fields, 1, keyword)
+                keyword = upper(keyword)
+                select case (keyword)
+                case ('GRAVITY')
+                    call get_text(card, gravity_fields, 2, name)
+                    name = upper(name)
+                    gravity%group = all_groups
+                    if (len(name) > 0 .and. name /= 'ALL') then
+                        gravity%group = position(model%mesh%group_name, name)
+                        if (gravity%group == 0) then
+                            call field_error(error, file, card, gravity_fields, 2, 'GRAVITY', &
+                                             'ALL or an element group ('// &
+                                             group_list(model%mesh%group_name)//')', name)
+                            return
+                        end if
+                    end if
+                    call get_real(file, card, gravity_fields, 3, 'GRAVITY', 0.0_dp, &
+                                  gravity%ax, error)
+                    if (allocated(error)) return
+                    call get_real(file, card, gravity_fields, 4, 'GRAVITY', -1.0_dp, &
+                                  gravity%ay, error)
+                    if (allocated(error)) return
+                    ngravity = ngravity + 1
+                    model%gravity(ngravity) = gravity
+                case ('FORCE')
+                    call get_range(file, card, force_fields, 'FORCE', 'node', &
+                                   model%mesh%nnode, n1, n2, inc, error, offset=1)
+                    if (allocated(error)) return
+                    call get_real(file, card, force_fields, 5, 'FORCE', 0.0_dp, force(1), error)
+                    if (allocated(error)) return
+                    call get_real(file, card, force_fields, 6, 'FORCE', 0.0_dp, force(2), error)
+                    if (allocated(error)) return
+                    model%nodal_force(1, n1:n2:inc) = model%nodal_force(1, n1:n2:inc) + force(1)
+                    model%nodal_force(2, n1:n2:inc) = model%nodal_force(2, n1:n2:inc) + force(2)
+                case ('PRESSURE')
+                    call read_pressure(file, card, model, pressure, error)
+                    if (allocated(error)) return
+                    npressure = npressure + 1
+                    model%pressures(npressure) = pressure
+                case default
+                    call card_error(error, file, card, "unknown load '"//keyword// &
+                                    "' in LOADS: expected GRAVITY, FORCE or PRESSURE")
+                    return
+                end select
+            end associate
+        end do
+        model%gravity = model%gravity(1:ngravity)
+        model%pressures = model%pressures(1:npressure)
+    end subroutine read_loads
+
+    subroutine read_pressure(file, card, model, pressure, error)
+        character(len=*), intent(in) :: file
+        type(card_t), intent(in) :: card
+        type(model_t), intent(in) :: model
+        type(pressure_load_t), intent(out) :: pressure
+        type(error_t), allocatable, intent(out) :: error
+        logical :: given
+        call get_int(file, card, pressure_fields, 2, 'PRESSURE', 0, pressure%element, error)
+        if (allocated(error)) return
+        if (pressure%element < 1 .or. pressure%element > model%mesh%nelem) then
+            call field_error(error, file, card, pressure_fields, 2, 'PRESSURE', &
+                             'an element from 1 to '//to_text(model%mesh%nelem), &
+                             raw_text(card, pressure_fields, 2))
+            return
+        end if
+        call get_int(file, card, pressure_fields, 3, 'PRESSURE', 0, pressure%face, error)
+        if (allocated(error)) return
+        if (pressure%face < 1 .or. pressure%face > 4) then
+            call field_error(error, file, card, pressure_fields, 3, 'PRESSURE', &
+                             'a face from 1 to 4', raw_text(card, pressure_fields, 3))
+            return
+        end if
+        associate (conn => model%mesh%conn(:, pressure%element))
+            if (pressure%face == 3 .and. conn(3) == conn(4)) then
+                call field_error(error, file, card, pressure_fields, 3, 'PRESSURE', &
+                                 'face 1, 2 or 4: element '//to_text(pressure%element)// &
+                                 ' is a triangle, its face 3 has zero length', '3')
+                return
+            end if
+        end associate
+        call get_real(file, card, pressure_fields, 4, 'PRESSURE', 0.0_dp, pressure%p1, error)
+        if (allocated(error)) return
+        call get_real(file, card, pressure_fields, 5, 'PRESSURE', pressure%p1, pressure%p2, &
+                      error, given)
+    end subroutine read_pressure
+
+    !> Numbers 1..n with none missing, and n equal to the CONTROL count when one was given.
+    subroutine check_numbering(file, header_line, what, defined_line, announced, count_name, &
+                               control_line, error)
+        character(len=*), intent(in) :: file, what, count_name
+        integer, intent(in) :: header_line, defined_line(:), announced, control_line
+        type(error_t), allocatable, intent(out) :: error
+        integer :: missing
+        missing = findloc(defined_line, 0, dim=1)
+        if (missing > 0) then
+            call fatal_error(error, file//':'//to_text(header_line)//': missing '//what//' '// &
+                             to_text(missing)//' ('//what//'s must be numbered 1 to '// &
+                             to_text(size(defined_line))//' without gaps)', input_error)
+            return
+        end if
+        if (announced > 0 .and. announced /= size(defined_line)) then
+            call fatal_error(error, file//':'//to_text(control_line)//': field '//count_name// &
+                             ' of CONTROL: '//to_text(announced)//' '//what// &
+                             's announced, '//to_text(size(defined_line))//' read', input_error)
+        end if
+    end subroutine check_numbering
+
+    !> Model-level checks: element shapes, unused nodes, rigid-body modes.
+    subroutine check_model(file, groups, model, node_line, element_line, error)
+        character(len=*), intent(in) :: file
+        type(group_cards_t), intent(in) :: groups(:)
+        type(model_t), intent(in) :: model
+        integer, intent(in) :: node_line(:), element_line(:)
+        type(error_t), allocatable, intent(out) :: error
+        character(len=:), allocatable :: mode
+        integer :: e, status, node
+        do e = 1, model%mesh%nelem
+            status = element_shape(model%mesh, e)
+            if (status /= shape_ok) then
+                if (status == shape_degenerate) then
+                    call fatal_error(error, file//':'//to_text(element_line(e))// &
+                                     ': element '//to_text(e)//' is degenerate (det J = 0 '// &
+                                     'at a corner: zero area or collinear edges)', input_error)
+                else
+                    call fatal_error(error, file//':'//to_text(element_line(e))// &
+                                     ': element '//to_text(e)//' is inverted (det J < 0: '// &
+                                     'nodes clockwise or a re-entrant corner)', input_error)
+                end if
+                return
+            end if
+        end do
+        node = first_unused_node(model%mesh)
+        if (node > 0) then
+            call fatal_error(error, file//':'//to_text(node_line(node))//': node '// &
+                             to_text(node)//' is used by no element (it would have no '// &
+                             'stiffness)', input_error)
+            return
+        end if
+        mode = free_rigid_mode(model)
+        if (len(mode) > 0) then
+            call fatal_error(error, file//':'//to_text(groups(g_boundary)%header_line)// &
+                             ': rigid-body motion not suppressed: '//mode//' is free; '// &
+                             'prescribe more displacements in BOUNDARY', input_error)
+        end if
+    end subroutine check_model
+
+    subroutine get_positive(file, card, fields, k, ctx, default, value, error)
+        character(len=*), intent(in) :: file, ctx
+        type(card_t), intent(in) :: card
+        type(field_t), intent(in) :: fields(:)
+        integer, intent(in) :: k
+        real(dp), intent(in) :: default
+        real(dp), intent(out) :: value
+        type(error_t), allocatable, intent(out) :: error
+        call get_real(file, card, fields, k, ctx, default, value, error)
+        if (allocated(error)) return
+        if (.not. value > 0.0_dp) call field_error(error, file, card, fields, k, ctx, &
+                                                   'a real > 0', raw_text(card, fields, k))
+    end subroutine get_positive
+
+    function raw_text(card, fields, k) result(text)
+        type(card_t), intent(in) :: card
+        type(field_t), intent(in) :: fields(:)
+        integer, intent(in) :: k
+        character(len=:), allocatable :: text
+        call get_text(card, fields, k, text)
+    end function raw_text
+
+    function real_text(card, fields, k) result(text)
+        type(card_t), intent(in) :: card
+        type(field_t), intent(in) :: fields(:)
+        integer, intent(in) :: k
+        character(len=:), allocatable :: text
+        call get_text(card, fields, k, text)
+        if (len(text) == 0) text = '(blank)'
+    end function real_text
+
+    !> Index of `word` in `names` (blank-padded comparison), 0 if absent. (gfortran 12's
+    !> findloc compares character arrays of unequal length wrongly.)
+    pure integer function position(names, word)
+        character(len=*), intent(in) :: names(:), word
+        integer :: i
+        position = 0
+        do i = 1, size(names)
+            if (names(i) == word) then
+                position = i
+                return
+            end if
+        end do
+    end function position
+
+    function group_list(names) result(text)
+        character(len=*), intent(in) :: names(:)
+        character(len=:), allocatable :: text
+        integer :: i
+        if (size(names) == 0) then
+            text = 'the deck names none'
+            return
+        end if
+        text = trim(names(1))
+        do i = 2, size(names)
+            text = text//', '//trim(names(i))
+        end do
+    end function group_list
+end module cfrd_deck

@@ -1,0 +1,381 @@
+!> The HDF5 results file (layout in docs/results.md): the deck, the mesh, and one group per
+!> stage with displacements, reactions, Gauss-point and centroid stresses, principal stresses
+!> and the solver's figures, each with its units. Every HDF5 status is checked; the first
+!> failure is carried in `h5_state_t` (so later calls are skipped) and becomes an error naming
+!> the object, after everything opened has been closed.
+module cfrd_hdf5
+    use hdf5, only: hid_t, hsize_t, h5open_f, h5close_f, h5fcreate_f, h5fclose_f, &
+                    h5gcreate_f, h5gclose_f, h5screate_simple_f, h5screate_f, h5sclose_f, &
+                    h5dcreate_f, h5dwrite_f, h5dclose_f, h5acreate_f, h5awrite_f, h5aclose_f, &
+                    h5tcopy_f, h5tset_size_f, h5tclose_f, h5eset_auto_f, &
+                    H5F_ACC_TRUNC_F, H5S_SCALAR_F, H5T_NATIVE_DOUBLE, H5T_NATIVE_INTEGER, &
+                    H5T_NATIVE_CHARACTER
+    use cfrd_kinds, only: dp
+    use cfrd_error, only: error_t, fatal_error, io_error
+    use cfrd_version, only: cfrd_version_string
+    use cfrd_model, only: model_t
+    use cfrd_results, only: results_t, stage_result_t
+    implicit none
+    private
+
+    public :: write_results_h5
+
+    !> The first failure of a sequence of HDF5 calls.
+    type :: h5_state_t
+        logical :: ok = .true.
+        character(len=:), allocatable :: failed   !! what was being written
+    end type h5_state_t
+
+contains
+
+    !> Write the results of a run to `path` (replacing it).
+    subroutine write_results_h5(path, model, results, error)
+        character(len=*), intent(in) :: path
+        type(model_t), intent(in) :: model
+        type(results_t), intent(in) :: results
+        type(error_t), allocatable, intent(out) :: error
+        type(h5_state_t) :: st
+        integer(hid_t) :: file_id, group_id, stages_id, stage_id, solver_id
+        integer :: hdferr, s
+        character(len=16) :: stage_name
+
+        call h5open_f(hdferr)
+        if (hdferr < 0) then
+            call fatal_error(error, 'cannot initialise the HDF5 library', io_error)
+            return
+        end if
+        call h5eset_auto_f(0, hdferr)   ! our messages, not HDF5's error stack on stderr
+        call h5fcreate_f(path, H5F_ACC_TRUNC_F, file_id, hdferr)
+        if (hdferr < 0) then
+            call h5close_f(hdferr)
+            call fatal_error(error, 'cannot create the results file '//path, io_error)
+            return
+        end if
+
+        call attr_text(file_id, 'program', 'cfrd', st)
+        call attr_text(file_id, 'version', cfrd_version_string, st)
+        call attr_text(file_id, 'title', model%title, st)
+        call attr_text(file_id, 'deck_file', model%deck_file, st)
+        call attr_text(file_id, 'created', timestamp(), st)
+        call attr_text(file_id, 'units', 'm, kN, kPa', st)
+        call attr_text(file_id, 'sign_convention', &
+                       'tension positive; stress components xx, yy, zz, xy', st)
+        call attr_text(file_id, 'numbering', &
+                       'node and element numbers are 1-based as in the deck', st)
+
+        call open_group(file_id, 'input', group_id, st)
+        call dataset_text(group_id, 'deck', model%deck_text, st)
+        call close_group(group_id, st)
+
+        call open_group(file_id, 'mesh', group_id, st)
+        call dataset_real2(group_id, 'coordinates', model%mesh%x, 'm', 'x, y', st)
+        call dataset_int2(group_id, 'connectivity', model%mesh%conn, st)
+        call dataset_int1(group_id, 'material', model%mesh%material, st)
+        call dataset_int1(group_id, 'group', model%mesh%group, st)
+        if (size(model%mesh%group_name) > 0) then
+            call dataset_names(group_id, 'group_names', model%mesh%group_name, st)
+        end if
+        call close_group(group_id, st)
+
+        call open_group(file_id, 'stages', stages_id, st)
+        do s = 1, size(results%stages)
+            write (stage_name, '(a,i4.4)') 'stage_', s
+            associate (stage => results%stages(s))
+                call open_group(stages_id, trim(stage_name), stage_id, st)
+                call attr_text(stage_id, 'name', stage%name, st)
+                call dataset_real2(stage_id, 'displacement', stage%displacement, 'm', &
+                                   'ux, uy', st)
+                call dataset_real2(stage_id, 'reaction', stage%reaction, 'kN/m', 'rx, ry', st)
+                call dataset_real3(stage_id, 'stress_gauss', stage%stress_gauss, 'kPa', &
+                                   'xx, yy, zz, xy', st)
+                call dataset_real2(stage_id, 'stress_centroid', stage%stress_centroid, 'kPa', &
+                                   'xx, yy, zz, xy', st)
+                call dataset_real2(stage_id, 'principal', stage%principal, 'kPa, kPa, deg', &
+                                   'sigma1, sigma3, angle of sigma1 from x', st)
+                call attr_real(stage_id, 'applied_load', stage%applied_load, st)
+                call attr_real(stage_id, 'reaction_sum', stage%reaction_sum, st)
+                call open_group(stage_id, 'solver', solver_id, st)
+                call attr_int(solver_id, 'neq', stage%stats%neq, st)
+                call attr_int(solver_id, 'nnz', stage%stats%nnz, st)
+                call attr_real(solver_id, 't_pattern', [stage%stats%t_pattern], st)
+                call attr_real(solver_id, 't_assembly', [stage%stats%t_assembly], st)
+                call attr_real(solver_id, 't_symbolic', [stage%stats%t_symbolic], st)
+                call attr_real(solver_id, 't_numeric', [stage%stats%t_numeric], st)
+                call attr_real(solver_id, 't_solve', [stage%stats%t_solve], st)
+                call attr_real(solver_id, 'rcond', [stage%stats%rcond], st)
+                call close_group(solver_id, st)
+                call close_group(stage_id, st)
+            end associate
+        end do
+        call close_group(stages_id, st)
+
+        call open_group(file_id, 'run', group_id, st)
+        call attr_real(group_id, 'wall_time', [results%wall_time], st)
+        call close_group(group_id, st)
+
+        call h5fclose_f(file_id, hdferr)
+        if (hdferr < 0) call fail(st, 'closing the file')
+        call h5close_f(hdferr)
+        if (.not. st%ok) call fatal_error(error, 'cannot write the results file '//path// &
+                                          ': HDF5 failed at '//st%failed, io_error)
+    end subroutine write_results_h5
+
+    subroutine fail(st, what)
+        type(h5_state_t), intent(inout) :: st
+        character(len=*), intent(in) :: what
+        if (.not. st%ok) return
+        st%ok = .false.
+        st%failed = what
+    end subroutine fail
+
+    subroutine open_group(loc, name, group_id, st)
+        integer(hid_t), intent(in) :: loc
+        character(len=*), intent(in) :: name
+        integer(hid_t), intent(out) :: group_id
+        type(h5_state_t), intent(inout) :: st
+        integer :: hdferr
+        group_id = -1
+        if (.not. st%ok) return
+        call h5gcreate_f(loc, name, group_id, hdferr)
+        if (hdferr < 0) call fail(st, 'group '//name)
+    end subroutine open_group
+
+    subroutine close_group(group_id, st)
+        integer(hid_t), intent(in) :: group_id
+        type(h5_state_t), intent(inout) :: st
+        integer :: hdferr
+        if (group_id < 0) return
+        call h5gclose_f(group_id, hdferr)
+        if (hdferr < 0) call fail(st, 'closing a group')
+    end subroutine close_group
+
+    !> Create a dataset of `type_id` and shape `dims`; the caller writes and closes it.
+    subroutine create_dataset(loc, name, type_id, dims, dset_id, st)
+        integer(hid_t), intent(in) :: loc, type_id
+        character(len=*), intent(in) :: name
+        integer(hsize_t), intent(in) :: dims(:)
+        integer(hid_t), intent(out) :: dset_id
+        type(h5_state_t), intent(inout) :: st
+        integer(hid_t) :: space_id
+        integer :: hdferr
+        dset_id = -1
+        if (.not. st%ok) return
+        if (size(dims) == 0) then
+            call h5screate_f(H5S_SCALAR_F, space_id, hdferr)
+        else
+            call h5screate_simple_f(size(dims), dims, space_id, hdferr)
+        end if
+        if (hdferr < 0) then
+            call fail(st, 'dataspace of '//name)
+            return
+        end if
+        call h5dcreate_f(loc, name, type_id, space_id, dset_id, hdferr)
+        if (hdferr < 0) call fail(st, 'dataset '//name)
+        call h5sclose_f(space_id, hdferr)
+    end subroutine create_dataset
+
+    subroutine finish_dataset(dset_id, name, hdferr, units, components, st)
+        integer(hid_t), intent(in) :: dset_id
+        character(len=*), intent(in) :: name
+        integer, intent(in) :: hdferr
+        character(len=*), intent(in), optional :: units, components
+        type(h5_state_t), intent(inout) :: st
+        integer :: close_err
+        if (dset_id < 0) return
+        if (hdferr < 0) call fail(st, 'writing dataset '//name)
+        if (present(units)) call attr_text(dset_id, 'units', units, st)
+        if (present(components)) call attr_text(dset_id, 'components', components, st)
+        call h5dclose_f(dset_id, close_err)
+        if (close_err < 0) call fail(st, 'closing dataset '//name)
+    end subroutine finish_dataset
+
+    subroutine dataset_real2(loc, name, values, units, components, st)
+        integer(hid_t), intent(in) :: loc
+        character(len=*), intent(in) :: name, units, components
+        real(dp), intent(in) :: values(:, :)
+        type(h5_state_t), intent(inout) :: st
+        integer(hid_t) :: dset_id
+        integer(hsize_t) :: dims(2)
+        integer :: hdferr
+        dims = shape(values, kind=hsize_t)
+        call create_dataset(loc, name, H5T_NATIVE_DOUBLE, dims, dset_id, st)
+        if (dset_id < 0) return
+        call h5dwrite_f(dset_id, H5T_NATIVE_DOUBLE, values, dims, hdferr)
+        call finish_dataset(dset_id, name, hdferr, units, components, st)
+    end subroutine dataset_real2
+
+    subroutine dataset_real3(loc, name, values, units, components, st)
+        integer(hid_t), intent(in) :: loc
+        character(len=*), intent(in) :: name, units, components
+        real(dp), intent(in) :: values(:, :, :)
+        type(h5_state_t), intent(inout) :: st
+        integer(hid_t) :: dset_id
+        integer(hsize_t) :: dims(3)
+        integer :: hdferr
+        dims = shape(values, kind=hsize_t)
+        call create_dataset(loc, name, H5T_NATIVE_DOUBLE, dims, dset_id, st)
+        if (dset_id < 0) return
+        call h5dwrite_f(dset_id, H5T_NATIVE_DOUBLE, values, dims, hdferr)
+        call finish_dataset(dset_id, name, hdferr, units, components, st)
+    end subroutine dataset_real3
+
+    subroutine dataset_int1(loc, name, values, st)
+        integer(hid_t), intent(in) :: loc
+        character(len=*), intent(in) :: name
+        integer, intent(in) :: values(:)
+        type(h5_state_t), intent(inout) :: st
+        integer(hid_t) :: dset_id
+        integer(hsize_t) :: dims(1)
+        integer :: hdferr
+        dims = shape(values, kind=hsize_t)
+        call create_dataset(loc, name, H5T_NATIVE_INTEGER, dims, dset_id, st)
+        if (dset_id < 0) return
+        call h5dwrite_f(dset_id, H5T_NATIVE_INTEGER, values, dims, hdferr)
+        call finish_dataset(dset_id, name, hdferr, st=st)
+    end subroutine dataset_int1
+
+    subroutine dataset_int2(loc, name, values, st)
+        integer(hid_t), intent(in) :: loc
+        character(len=*), intent(in) :: name
+        integer, intent(in) :: values(:, :)
+        type(h5_state_t), intent(inout) :: st
+        integer(hid_t) :: dset_id
+        integer(hsize_t) :: dims(2)
+        integer :: hdferr
+        dims = shape(values, kind=hsize_t)
+        call create_dataset(loc, name, H5T_NATIVE_INTEGER, dims, dset_id, st)
+        if (dset_id < 0) return
+        call h5dwrite_f(dset_id, H5T_NATIVE_INTEGER, values, dims, hdferr)
+        call finish_dataset(dset_id, name, hdferr, st=st)
+    end subroutine dataset_int2
+
+    !> A fixed-length string type of `length` characters (at least 1).
+    subroutine string_type(length, type_id, st)
+        integer, intent(in) :: length
+        integer(hid_t), intent(out) :: type_id
+        type(h5_state_t), intent(inout) :: st
+        integer :: hdferr
+        call h5tcopy_f(H5T_NATIVE_CHARACTER, type_id, hdferr)
+        if (hdferr >= 0) call h5tset_size_f(type_id, int(max(length, 1), hsize_t), hdferr)
+        if (hdferr < 0) call fail(st, 'string type')
+    end subroutine string_type
+
+    subroutine dataset_text(loc, name, text, st)
+        integer(hid_t), intent(in) :: loc
+        character(len=*), intent(in) :: name, text
+        type(h5_state_t), intent(inout) :: st
+        integer(hid_t) :: dset_id, type_id
+        integer(hsize_t) :: dims(0)
+        integer :: hdferr
+        if (.not. st%ok) return
+        call string_type(len(text), type_id, st)
+        call create_dataset(loc, name, type_id, dims, dset_id, st)
+        if (dset_id >= 0) then
+            if (len(text) > 0) then
+                call h5dwrite_f(dset_id, type_id, text, dims, hdferr)
+            else
+                call h5dwrite_f(dset_id, type_id, ' ', dims, hdferr)
+            end if
+            call finish_dataset(dset_id, name, hdferr, st=st)
+        end if
+        call h5tclose_f(type_id, hdferr)
+    end subroutine dataset_text
+
+    subroutine dataset_names(loc, name, names, st)
+        integer(hid_t), intent(in) :: loc
+        character(len=*), intent(in) :: name, names(:)
+        type(h5_state_t), intent(inout) :: st
+        integer(hid_t) :: dset_id, type_id
+        integer(hsize_t) :: dims(1)
+        integer :: hdferr
+        if (.not. st%ok) return
+        dims = size(names, kind=hsize_t)
+        call string_type(len(names), type_id, st)
+        call create_dataset(loc, name, type_id, dims, dset_id, st)
+        if (dset_id >= 0) then
+            call h5dwrite_f(dset_id, type_id, names, dims, hdferr)
+            call finish_dataset(dset_id, name, hdferr, st=st)
+        end if
+        call h5tclose_f(type_id, hdferr)
+    end subroutine dataset_names
+
+    subroutine attr_text(loc, name, text, st)
+        integer(hid_t), intent(in) :: loc
+        character(len=*), intent(in) :: name, text
+        type(h5_state_t), intent(inout) :: st
+        integer(hid_t) :: space_id, type_id, attr_id
+        integer(hsize_t) :: dims(1) = 1
+        integer :: hdferr
+        if (.not. st%ok) return
+        call string_type(len(text), type_id, st)
+        call h5screate_f(H5S_SCALAR_F, space_id, hdferr)
+        call h5acreate_f(loc, name, type_id, space_id, attr_id, hdferr)
+        if (hdferr >= 0) then
+            if (len(text) > 0) then
+                call h5awrite_f(attr_id, type_id, text, dims, hdferr)
+            else
+                call h5awrite_f(attr_id, type_id, ' ', dims, hdferr)
+            end if
+            if (hdferr < 0) call fail(st, 'attribute '//name)
+            call h5aclose_f(attr_id, hdferr)
+        else
+            call fail(st, 'attribute '//name)
+        end if
+        call h5sclose_f(space_id, hdferr)
+        call h5tclose_f(type_id, hdferr)
+    end subroutine attr_text
+
+    subroutine attr_real(loc, name, values, st)
+        integer(hid_t), intent(in) :: loc
+        character(len=*), intent(in) :: name
+        real(dp), intent(in) :: values(:)
+        type(h5_state_t), intent(inout) :: st
+        integer(hid_t) :: space_id, attr_id
+        integer(hsize_t) :: dims(1)
+        integer :: hdferr
+        if (.not. st%ok) return
+        dims = size(values, kind=hsize_t)
+        call h5screate_simple_f(1, dims, space_id, hdferr)
+        call h5acreate_f(loc, name, H5T_NATIVE_DOUBLE, space_id, attr_id, hdferr)
+        if (hdferr >= 0) then
+            call h5awrite_f(attr_id, H5T_NATIVE_DOUBLE, values, dims, hdferr)
+            if (hdferr < 0) call fail(st, 'attribute '//name)
+            call h5aclose_f(attr_id, hdferr)
+        else
+            call fail(st, 'attribute '//name)
+        end if
+        call h5sclose_f(space_id, hdferr)
+    end subroutine attr_real
+
+    subroutine attr_int(loc, name, value, st)
+        integer(hid_t), intent(in) :: loc
+        character(len=*), intent(in) :: name
+        integer, intent(in) :: value
+        type(h5_state_t), intent(inout) :: st
+        integer(hid_t) :: space_id, attr_id
+        integer(hsize_t) :: dims(1) = 1
+        integer :: hdferr
+        if (.not. st%ok) return
+        call h5screate_simple_f(1, dims, space_id, hdferr)
+        call h5acreate_f(loc, name, H5T_NATIVE_INTEGER, space_id, attr_id, hdferr)
+        if (hdferr >= 0) then
+            call h5awrite_f(attr_id, H5T_NATIVE_INTEGER, [value], dims, hdferr)
+            if (hdferr < 0) call fail(st, 'attribute '//name)
+            call h5aclose_f(attr_id, hdferr)
+        else
+            call fail(st, 'attribute '//name)
+        end if
+        call h5sclose_f(space_id, hdferr)
+    end subroutine attr_int
+
+    !> ISO 8601 local time.
+    function timestamp() result(text)
+        character(len=:), allocatable :: text
+        character(len=8) :: date
+        character(len=10) :: time
+        character(len=5) :: zone
+        call date_and_time(date, time, zone)
+        text = date(1:4)//'-'//date(5:6)//'-'//date(7:8)//'T'//time(1:2)//':'//time(3:4)// &
+               ':'//time(5:6)//zone(1:3)//':'//zone(4:5)
+    end function timestamp
+end module cfrd_hdf5

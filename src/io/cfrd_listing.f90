@@ -1,0 +1,198 @@
+!> The printed listing, in the manner of the legacy dam codes: the input echoed with line
+!> numbers, then per stage tables of node displacements, element stresses at centroids with
+!> principal stresses, reactions with their sum against the applied load, and the solver's
+!> figures (docs/results.md). Writers format; they compute nothing but sums for display.
+module cfrd_listing
+    use cfrd_kinds, only: dp
+    use cfrd_error, only: error_t, fatal_error, io_error
+    use cfrd_version, only: cfrd_version_string
+    use cfrd_model, only: model_t, law_name
+    use cfrd_results, only: results_t, stage_result_t
+    implicit none
+    private
+
+    public :: write_listing, write_summary
+
+    character(len=*), parameter :: rule = repeat('-', 100)
+
+contains
+
+    !> Write the listing of a run to `path`.
+    subroutine write_listing(path, model, results, error)
+        character(len=*), intent(in) :: path
+        type(model_t), intent(in) :: model
+        type(results_t), intent(in) :: results
+        type(error_t), allocatable, intent(out) :: error
+        integer :: unit, stat, s
+        character(len=256) :: msg
+        open (newunit=unit, file=path, status='replace', action='write', iostat=stat, &
+              iomsg=msg)
+        if (stat /= 0) then
+            call fatal_error(error, 'cannot write the listing '//path//': '//trim(msg), io_error)
+            return
+        end if
+        call write_banner(unit, model)
+        call write_echo(unit, model)
+        call write_model_summary(unit, model)
+        do s = 1, size(results%stages)
+            call write_stage(unit, model, results%stages(s), s)
+        end do
+        write (unit, '(/,a,f10.3,a)', iostat=stat, iomsg=msg) ' TOTAL ANALYSIS TIME', &
+            results%wall_time, ' s'
+        if (stat /= 0) then
+            call fatal_error(error, 'cannot write the listing '//path//': '//trim(msg), io_error)
+        end if
+        close (unit)
+    end subroutine write_listing
+
+    subroutine write_banner(unit, model)
+        integer, intent(in) :: unit
+        type(model_t), intent(in) :: model
+        character(len=8) :: date
+        character(len=10) :: time
+        call date_and_time(date, time)
+        write (unit, '(a)') rule, &
+            ' CFRD '//cfrd_version_string//'   staged finite-element analysis of '// &
+            'concrete-faced rockfill dams', &
+            ' RUN OF '//date(1:4)//'-'//date(5:6)//'-'//date(7:8)//' '//time(1:2)//':'// &
+            time(3:4)//':'//time(5:6), &
+            ' DECK   '//model%deck_file, &
+            ' TITLE  '//model%title, rule
+    end subroutine write_banner
+
+    subroutine write_echo(unit, model)
+        integer, intent(in) :: unit
+        type(model_t), intent(in) :: model
+        integer :: start, i, line
+        write (unit, '(/,a,/,a)') ' ECHO OF INPUT', &
+            '  LINE  ----+----1----+----2----+----3----+----4----+----5----+----6----+----7'// &
+            '----+----8'
+        start = 1
+        line = 0
+        do i = 1, len(model%deck_text) + 1
+            if (i > len(model%deck_text)) then
+                if (start > len(model%deck_text)) exit
+            else if (model%deck_text(i:i) /= achar(10)) then
+                cycle
+            end if
+            line = line + 1
+            write (unit, '(i6,2x,a)') line, model%deck_text(start:i - 1)
+            start = i + 1
+        end do
+    end subroutine write_echo
+
+    subroutine write_model_summary(unit, model)
+        integer, intent(in) :: unit
+        type(model_t), intent(in) :: model
+        integer :: m
+        write (unit, '(/,a)') ' CONTROL'
+        write (unit, '(a,t40,a)') '   analysis', 'plane strain'
+        write (unit, '(a,t40,a)') '   units', 'm, kN, kPa ('//model%units//')'
+        write (unit, '(a,t40,i10)') '   nodes', model%mesh%nnode
+        write (unit, '(a,t40,i10)') '   elements', model%mesh%nelem
+        write (unit, '(a,t40,i10)') '   materials', size(model%materials)
+        write (unit, '(a,t40,f10.3,a)') '   atmospheric pressure pa', model%pa, ' kPa'
+        write (unit, '(a,t40,f10.3,a)') '   unit weight of water', model%gamma_w, ' kN/m3'
+        write (unit, '(/,a,/,a)') ' MATERIALS', &
+            '   MAT LAW                   E (kPa)        NU   GAMMA (kN/m3)  LABEL'
+        do m = 1, size(model%materials)
+            associate (mat => model%materials(m))
+                write (unit, '(i6,1x,a10,es18.6,f10.4,f16.4,2x,a)') m, law_name(mat%law), &
+                    mat%youngs_modulus, mat%poisson_ratio, mat%unit_weight, mat%label
+            end associate
+        end do
+    end subroutine write_model_summary
+
+    subroutine write_stage(unit, model, stage, number)
+        integer, intent(in) :: unit, number
+        type(model_t), intent(in) :: model
+        type(stage_result_t), intent(in) :: stage
+        integer :: node, e
+        real(dp) :: imbalance
+        write (unit, '(/,a,/,a,i4,2a,/,a)') rule, ' STAGE', number, '   ', stage%name, rule
+        write (unit, '(/,a,/,a)') ' NODE DISPLACEMENTS', &
+            '   NODE          X (m)          Y (m)         UX (m)         UY (m)'
+        do node = 1, model%mesh%nnode
+            write (unit, '(i7,2f15.4,2es15.6)') node, model%mesh%x(:, node), &
+                stage%displacement(:, node)
+        end do
+        write (unit, '(/,a,/,a,/,a)') ' ELEMENT STRESSES AT CENTROIDS (kPa, tension positive;'// &
+            ' ANGLE of SIGMA1 from x, degrees)', &
+            '   ELEM MAT          SXX          SYY          SZZ          SXY       SIGMA1'// &
+            '       SIGMA3   ANGLE'
+        do e = 1, model%mesh%nelem
+            write (unit, '(i7,i4,6es13.4,f8.2)') e, model%mesh%material(e), &
+                stage%stress_centroid(:, e), stage%principal(1:2, e), stage%principal(3, e)
+        end do
+        write (unit, '(/,a,/,a)') ' REACTIONS (kN/m)', &
+            '   NODE             RX             RY'
+        do node = 1, model%mesh%nnode
+            if (.not. any(model%fixed(:, node))) cycle
+            write (unit, '(i7,2es15.6)') node, stage%reaction(:, node)
+        end do
+        imbalance = norm2(stage%applied_load + stage%reaction_sum)/ &
+                    max(norm2(stage%applied_load), tiny(1.0_dp))
+        write (unit, '(a,2es15.6)') '    SUM', stage%reaction_sum
+        write (unit, '(a,2es15.6)') ' APPLIED', stage%applied_load
+        write (unit, '(a,es10.2)') ' RELATIVE IMBALANCE |APPLIED + REACTIONS| / |APPLIED| =', &
+            imbalance
+        associate (st => stage%stats)
+            write (unit, '(/,a)') ' SOLVER'
+            write (unit, '(a,t40,i12)') '   equations', st%neq
+            write (unit, '(a,t40,i12)') '   matrix nonzeros', st%nnz
+            write (unit, '(a,t40,es12.3)') '   reciprocal condition estimate', st%rcond
+            write (unit, '(a,t40,f12.4,a)') '   pattern', st%t_pattern, ' s'
+            write (unit, '(a,t40,f12.4,a)') '   assembly', st%t_assembly, ' s'
+            write (unit, '(a,t40,f12.4,a)') '   symbolic factorisation', st%t_symbolic, ' s'
+            write (unit, '(a,t40,f12.4,a)') '   numeric factorisation', st%t_numeric, ' s'
+            write (unit, '(a,t40,f12.4,a)') '   solve', st%t_solve, ' s'
+        end associate
+    end subroutine write_stage
+
+    !> A short result table for the terminal: extreme displacements and principal stresses
+    !> and where they occur, the reaction balance and the solver's times.
+    subroutine write_summary(unit, model, results)
+        integer, intent(in) :: unit
+        type(model_t), intent(in) :: model
+        type(results_t), intent(in) :: results
+        integer :: node, e
+        real(dp) :: imbalance
+        associate (stage => results%stages(size(results%stages)), mesh => model%mesh)
+            write (unit, '(a)') 'cfrd '//cfrd_version_string//': '//model%deck_file// &
+                ' -- '//model%title
+            write (unit, '(a,i0,a,i0,a,i0,a)') '  ', mesh%nnode, ' nodes, ', mesh%nelem, &
+                ' elements, ', stage%stats%neq, ' equations'
+            write (unit, '(a)') '  quantity                          value   node/elem'// &
+                '         x (m)         y (m)'
+            node = minloc(stage%displacement(2, :), dim=1)
+            write (unit, '(a,es14.5,i12,2f14.3)') '  max settlement (-uy), m    ', &
+                -stage%displacement(2, node), node, mesh%x(:, node)
+            node = maxloc(stage%displacement(1, :), dim=1)
+            write (unit, '(a,es14.5,i12,2f14.3)') '  max ux (+x), m             ', &
+                stage%displacement(1, node), node, mesh%x(:, node)
+            node = minloc(stage%displacement(1, :), dim=1)
+            write (unit, '(a,es14.5,i12,2f14.3)') '  min ux (-x), m             ', &
+                stage%displacement(1, node), node, mesh%x(:, node)
+            e = maxloc(stage%principal(1, :), dim=1)
+            write (unit, '(a,es14.5,i12,2f14.3)') '  max sigma1 (tension +), kPa', &
+                stage%principal(1, e), e, centroid(e)
+            e = minloc(stage%principal(2, :), dim=1)
+            write (unit, '(a,es14.5,i12,2f14.3)') '  min sigma3, kPa            ', &
+                stage%principal(2, e), e, centroid(e)
+            imbalance = norm2(stage%applied_load + stage%reaction_sum)/ &
+                        max(norm2(stage%applied_load), tiny(1.0_dp))
+            write (unit, '(a,2es14.5)') '  applied load (x, y), kN/m  ', stage%applied_load
+            write (unit, '(a,2es14.5)') '  sum of reactions, kN/m     ', stage%reaction_sum
+            write (unit, '(a,es14.5)') '  relative imbalance         ', imbalance
+            write (unit, '(a,f10.4,a,f8.4,a,f8.4,a)') '  time', results%wall_time, &
+                ' s (assembly', stage%stats%t_assembly, ' s, factorisation', &
+                stage%stats%t_symbolic + stage%stats%t_numeric, ' s)'
+        end associate
+    contains
+        function centroid(e) result(c)
+            integer, intent(in) :: e
+            real(dp) :: c(2)
+            c = sum(model%mesh%x(:, model%mesh%conn(:, e)), dim=2)/4.0_dp
+        end function centroid
+    end subroutine write_summary
+end module cfrd_listing

@@ -1,0 +1,108 @@
+!> Checks of a model that need no card positions: element geometry, nodes used by no
+!> element, and rigid-body modes that the prescribed dofs leave free (docs/theory.md,
+!> sections 3 and 5). They return what is wrong; the deck reader words the message.
+module cfrd_model_check
+    use cfrd_kinds, only: dp
+    use cfrd_model, only: model_t, mesh_t
+    implicit none
+    private
+
+    public :: element_shape, first_unused_node, free_rigid_mode
+    public :: shape_ok, shape_degenerate, shape_inverted
+
+    integer, parameter :: shape_ok = 0, shape_degenerate = 1, shape_inverted = 2
+
+contains
+
+    !> Sign of det J over element e: det J of a bilinear quad is linear in (xi, eta), so it is
+    !> positive everywhere when the edge cross product at each corner is. A triangle (node 4 =
+    !> node 3) has one zero corner by construction; its area decides.
+    pure integer function element_shape(mesh, e) result(status)
+        type(mesh_t), intent(in) :: mesh
+        integer, intent(in) :: e
+        real(dp) :: p(2, 4), cross, tol, size2
+        integer :: k, prev, next
+        p = mesh%x(:, mesh%conn(:, e))
+        size2 = 0.0_dp
+        do k = 1, 4
+            size2 = max(size2, sum((p(:, mod(k, 4) + 1) - p(:, k))**2))
+        end do
+        tol = 1.0e-10_dp*size2
+        status = shape_ok
+        if (mesh%conn(4, e) == mesh%conn(3, e)) then
+            cross = cross2(p(:, 2) - p(:, 1), p(:, 3) - p(:, 1))
+            if (cross < -tol) then
+                status = shape_inverted
+            else if (cross <= tol) then
+                status = shape_degenerate
+            end if
+            return
+        end if
+        do k = 1, 4
+            next = mod(k, 4) + 1
+            prev = mod(k + 2, 4) + 1
+            cross = cross2(p(:, next) - p(:, k), p(:, prev) - p(:, k))
+            if (cross < -tol) then
+                status = shape_inverted
+                return
+            else if (cross <= tol) then
+                status = shape_degenerate
+            end if
+        end do
+    end function element_shape
+
+    pure real(dp) function cross2(a, b)
+        real(dp), intent(in) :: a(2), b(2)
+        cross2 = a(1)*b(2) - a(2)*b(1)
+    end function cross2
+
+    !> The first node that no element uses, or 0.
+    pure integer function first_unused_node(mesh) result(node)
+        type(mesh_t), intent(in) :: mesh
+        logical, allocatable :: used(:)
+        integer :: e
+        allocate (used(mesh%nnode), source=.false.)
+        do e = 1, mesh%nelem
+            used(mesh%conn(:, e)) = .true.
+        end do
+        node = findloc(used, .false., dim=1)
+    end function first_unused_node
+
+    !> Which rigid-body mode of the plane the prescribed dofs leave free: '' when none,
+    !> else 'translation in x', 'translation in y' or 'rotation'. The rows (1, 0, -y) of x dofs
+    !> and (0, 1, x) of y dofs (coordinates centred and scaled) must have rank 3.
+    pure function free_rigid_mode(model) result(mode)
+        type(model_t), intent(in) :: model
+        character(len=:), allocatable :: mode
+        real(dp) :: centre(2), scale, g(3, 3), row(3), c(2), det
+        integer :: node
+        mode = ''
+        if (.not. any(model%fixed(1, :))) then
+            mode = 'translation in x'
+            return
+        end if
+        if (.not. any(model%fixed(2, :))) then
+            mode = 'translation in y'
+            return
+        end if
+        centre = sum(model%mesh%x, dim=2)/model%mesh%nnode
+        scale = max(maxval(abs(model%mesh%x(1, :) - centre(1))), &
+                    maxval(abs(model%mesh%x(2, :) - centre(2))), tiny(1.0_dp))
+        g = 0.0_dp
+        do node = 1, model%mesh%nnode
+            c = (model%mesh%x(:, node) - centre)/scale
+            if (model%fixed(1, node)) then
+                row = [1.0_dp, 0.0_dp, -c(2)]
+                g = g + spread(row, 2, 3)*spread(row, 1, 3)
+            end if
+            if (model%fixed(2, node)) then
+                row = [0.0_dp, 1.0_dp, c(1)]
+                g = g + spread(row, 2, 3)*spread(row, 1, 3)
+            end if
+        end do
+        det = g(1, 1)*(g(2, 2)*g(3, 3) - g(2, 3)*g(3, 2)) &
+              - g(1, 2)*(g(2, 1)*g(3, 3) - g(2, 3)*g(3, 1)) &
+              + g(1, 3)*(g(2, 1)*g(3, 2) - g(2, 2)*g(3, 1))
+        if (det <= 1.0e-10_dp*g(1, 1)*g(2, 2)*max(g(3, 3), 1.0_dp)) mode = 'rotation'
+    end function free_rigid_mode
+end module cfrd_model_check
