@@ -186,8 +186,15 @@ contains
         integer, intent(out) :: first, last
         if (card%free) then
             if (k <= size(card%token_first)) then
+                ! Report the columns of the token without its surrounding blanks.
                 first = card%token_first(k)
                 last = card%token_last(k)
+                do while (first < last .and. card%text(first:first) == ' ')
+                    first = first + 1
+                end do
+                do while (last > first .and. card%text(last:last) == ' ')
+                    last = last - 1
+                end do
                 text = card%text(first:last)
                 if (last < first) then
                     last = first

@@ -233,6 +233,7 @@ contains
         end if
         word = trim(adjustl(upper(head)))
         if (len(word) == 0) return
+        if (index(word, ' ') > 0) word = word(1:index(word, ' ') - 1)
         if (.not. ((word(1:1) >= 'A' .and. word(1:1) <= 'Z'))) word = ''
     end function leading_word
 

@@ -1,0 +1,88 @@
+#!/usr/bin/env python3
+"""Writes the bad decks of test/bad_decks/ (run from the repository root).
+
+Each case mutates one small valid deck; its first card `* expect: ...` holds the message
+fragment that the card manual (docs/cards.md) promises for that mistake, which
+tools/run_tests.sh asserts together with exit status 2.
+"""
+import os
+base = """TITLE     bad deck
+CONTROL
+    6    2    1
+NODES
+    1    3    1       0.0       0.0       2.0       0.0
+    4    6    1       0.0       1.0       2.0       1.0
+ELEMENTS
+    1    1    2    5    4    1    1    1 SOIL
+MATERIALS
+    1ELASTIC   soil
+   20000.0       0.3      20.0
+BOUNDARY
+    1    3    1    1    1
+LOADS
+GRAVITY
+END
+"""
+# line numbers (with the expect card as line 1): TITLE 2, CONTROL 3, counts 4, NODES 5,
+# node cards 6-7, ELEMENTS 8, element 9, MATERIALS 10, mat 11-12, BOUNDARY 13, bc 14,
+# LOADS 15, GRAVITY 16, END 17
+def sub(old, new, count=1):
+    assert old in base, old
+    return base.replace(old, new, count)
+P = "test/bad_decks/"
+cases = [
+ ("unknown-group", sub("LOADS\n", "LODES\n"), "{f}:15: unknown group 'LODES'"),
+ ("missing-nodes", sub("NODES\n    1    3    1       0.0       0.0       2.0       0.0\n    4    6    1       0.0       1.0       2.0       1.0\n", ""), "{f}: missing group NODES"),
+ ("missing-boundary", sub("BOUNDARY\n    1    3    1    1    1\n", ""), "{f}: missing group BOUNDARY"),
+ ("missing-materials", sub("MATERIALS\n    1ELASTIC   soil\n   20000.0       0.3      20.0\n", ""), "{f}: missing group MATERIALS"),
+ ("missing-elements", sub("ELEMENTS\n    1    1    2    5    4    1    1    1 SOIL\n", ""), "{f}: missing group ELEMENTS"),
+ ("duplicate-group", sub("LOADS\n", "NODES\nLOADS\n"), "{f}:15: duplicate group NODES (first at line 5)"),
+ ("no-end", sub("END\n", ""), "{f}: no END card: is the deck truncated?"),
+ ("card-before-header", "    1    2\n" + base, "{f}:2: data card before any group header"),
+ ("integer-not-numeric", sub("    1    3    1       0.0", "   1x    3    1       0.0"), "{f}:6:1-5: field N1 of NODES: expected an integer, found '1x'"),
+ ("real-not-numeric", sub("       2.0       0.0\n    4", "       abc       0.0\n    4"), "{f}:6:36-45: field X2 of NODES 1: expected a real number, found 'abc'"),
+ ("embedded-blank", sub("   20000.0       0.3", "  2000 0.0       0.3"), "{f}:12:1-10: field E of MATERIALS 1: expected a real number, found '2000 0.0'"),
+ ("real-in-integer-field", sub("    4    6    1       0.0", "  4.0    6    1       0.0"), "{f}:7:1-5: field N1 of NODES: expected an integer, found '4.0'"),
+ ("negative-modulus", sub("   20000.0       0.3", "  -20000.0       0.3"), "{f}:12:1-10: field E of MATERIALS 1: expected a real > 0 (kPa), found '-20000.0'"),
+ ("poisson-half", sub("   20000.0       0.3", "   20000.0       0.5"), "{f}:12:11-20: field NU of MATERIALS 1: expected a real with 0 <= NU < 0.5, found '0.5'"),
+ ("nnode-mismatch", sub("    6    2    1\n", "    7    2    1\n"), "{f}:4: field NNODE of CONTROL: 7 nodes announced, 6 read"),
+ ("nelem-mismatch", sub("    6    2    1\n", "    6    3    1\n"), "{f}:4: field NELEM of CONTROL: 3 elements announced, 2 read"),
+ ("nmat-mismatch", sub("    6    2    1\n", "    6    2    2\n"), "{f}:4: field NMAT of CONTROL: 2 materials announced, 1 read"),
+ ("duplicate-node", sub("ELEMENTS\n", "    3" + " "*10 + "       2.0       0.0\nELEMENTS\n"), "{f}:8: duplicate node 3 (first defined at line 6)"),
+ ("missing-node", sub("    4    6    1       0.0       1.0       2.0       1.0\n", "    5    6    1       1.0       1.0       2.0       1.0\n"), "{f}:5: missing node 4 (nodes must be numbered 1 to 6 without gaps)"),
+ ("element-missing-node", sub("    1    1    2    5    4    1    1", "    1    1    2    9    4    1    1"), "{f}:9:16-20: field K of ELEMENTS 1: expected a node from 1 to 6"),
+ ("repeated-node", sub("    1    1    2    5    4    1    1", "    1    1    2    2    4    1    1"), "{f}:9: element 1 repeats a node"),
+ ("inverted-element", sub("    1    1    2    5    4    1    1", "    1    1    4    5    2    1    1"), "{f}:9: element 1 is inverted"),
+ ("degenerate-element", sub("    4    6    1       0.0       1.0       2.0       1.0", "    4    6    1       3.0       0.0       5.0       0.0"), "{f}:9: element 1 is degenerate"),
+ ("material-out-of-range", sub("    1    1    2    5    4    1    1", "    1    1    2    5    4    2    1"), "{f}:9:26-30: field MAT of ELEMENTS 1: expected a material number from 1 to 1, found '2'"),
+ ("missing-material-card", sub("   20000.0       0.3      20.0\n", ""), "{f}:11: MATERIALS 1: missing parameter card (E, NU, GAMMA)"),
+ ("unknown-law", sub("    1ELASTIC", "    1PLASTIC"), "{f}:11:6-15: field LAW of MATERIALS 1: expected a material law: ELASTIC, found 'PLASTIC'"),
+ ("unused-node", sub("    6    2    1\n", "         2    1\n").replace("ELEMENTS\n", "    7" + " "*10 + "       9.0       9.0\nELEMENTS\n"), "{f}:8: node 7 is used by no element"),
+ ("rigid-no-x", sub("    1    3    1    1    1\n", "    1    3    1    0    1\n"), "{f}:13: rigid-body motion not suppressed: translation in x is free"),
+ ("rigid-rotation", sub("    1    3    1    1    1\n", "    1" + " "*10 + "    1    1\n"), "{f}:13: rigid-body motion not suppressed: rotation is free"),
+ ("boundary-fixes-nothing", sub("    1    3    1    1    1\n", "    1    3    1    1    1\n    4              0    0\n"), "{f}:15: BOUNDARY card fixes nothing"),
+ ("unknown-load", sub("GRAVITY\n", "WIND      \n"), "{f}:16: unknown load 'WIND' in LOADS"),
+ ("unknown-gravity-group", sub("GRAVITY\n", "GRAVITY   ROCK\n"), "{f}:16:11-20: field GROUP of GRAVITY: expected ALL or an element group (SOIL), found 'ROCK'"),
+ ("pressure-face", sub("GRAVITY\n", "PRESSURE      1    5     100.0\n"), "{f}:16:16-20: field FACE of PRESSURE: expected a face from 1 to 4, found '5'"),
+ ("pressure-triangle-face3", sub("    1    1    2    5    4    1    1", "    1    1    2    5    5    1    1").replace("GRAVITY\n", "PRESSURE      1    3     100.0\n"), "{f}:16:16-20: field FACE of PRESSURE: expected face 1, 2 or 4: element 1 is a triangle"),
+ ("beyond-column-80", sub("    1    3    1       0.0       0.0       2.0       0.0\n", "    1    3    1       0.0       0.0       2.0       0.0" + " "*25 + "extra\n"), "{f}:6:81-85: text beyond column 80"),
+ ("tab-character", sub("    1    3    1       0.0", "    1    3    1\t0.0"), "{f}:6:16-16: a tab character on a fixed-format card"),
+ ("units", sub("    6    2    1\n", "    6    2    1" + " "*25 + "KIP-FT\n"), "{f}:4:41-50: field UNITS of CONTROL: expected KN-M (m, kN, kPa) or blank, found 'KIP-FT'"),
+ ("axisymmetric", sub("    6    2    1\n", "    6    2    1    2\n"), "{f}:4:16-20: field MODEL of CONTROL: expected 1 (plane strain): axisymmetric analysis is not supported yet"),
+ ("increment-not-divisor", sub("    1    3    1       0.0", "    1    3    3       0.0"), "{f}:6:11-15: field INC of NODES: expected an increment that divides N2 - N1 = 2, found '3'"),
+ ("free-format-bad-real", sub("    1    3    1       0.0       0.0       2.0       0.0", "&1, 3, 1, 0.0, zero, 2.0, 0.0"), "{f}:6:16-19: field Y1 of NODES 1: expected a real number, found 'zero'"),
+ ("duplicate-element", sub("ELEMENTS\n    1    1    2    5    4    1    1    1 SOIL\n", "ELEMENTS\n    1    1    2    5    4    1    1    1 SOIL\n    2    2    3    6    5    1\n"), "{f}:10: duplicate element 2 (first defined at line 9)"),
+ ("missing-element", sub("    6    2    1\n", "    6         1\n").replace("    1    1    2    5    4    1    1    1 SOIL\n", "    1    1    2    5    4    1\n    3    2    3    6    5    1\n"), "{f}:8: missing element 2 (elements must be numbered 1 to 3 without gaps)"),
+ ("duplicate-material", sub("BOUNDARY\n", "    1ELASTIC   again\n   30000.0       0.3      20.0\nBOUNDARY\n"), "{f}:13: duplicate material 1 (first defined at line 11)"),
+ ("title-data-card", sub("TITLE     bad deck\n", "TITLE     bad deck\n    1\n"), "{f}:3: TITLE takes no data cards"),
+ ("control-two-cards", sub("    6    2    1\n", "    6    2    1\n    6    2    1\n"), "{f}:3: CONTROL takes exactly one data card, found 2"),
+ ("value-without-code", sub("    1    3    1    1    1\n", "    1    3    1    0    1       0.1\n"), "{f}:14:26-35: field UX of BOUNDARY 1: expected blank: a prescribed value needs IX = 1, found '0.1'"),
+ ("node-beyond-nnode", sub("    4    6    1       0.0", "    4    8    2       0.0"), "{f}:7:6-10: field N2 of NODES: expected a last node from N1 = 4 to 6, found '8'"),
+]
+for old in os.listdir(P):
+    os.remove(P + old)
+for i, (name, deck, expect) in enumerate(cases, 1):
+    f = f"{P}{i:02d}-{name}.dat"
+    with open(f, "w") as h:
+        h.write("* expect: " + expect.format(f=f) + "\n" + deck)
+print(len(cases))
