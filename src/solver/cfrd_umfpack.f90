@@ -19,7 +19,7 @@ module cfrd_umfpack
     ! Sizes and indices of umfpack.h (0-based in C, hence the +1 in Fortran).
     integer, parameter :: umfpack_control = 20, umfpack_info = 90
     integer, parameter :: i_prl = 0, i_strategy = 5, i_ordering = 10, i_rcond = 67
-    integer(c_int), parameter :: ordering_metis = 0
+    integer(c_int), parameter :: ordering_amd = 1
     integer(c_int), parameter :: umfpack_a = 0
     integer(c_int), parameter :: strategy_symmetric = 3
     integer(c_int), parameter :: umfpack_ok = 0, warning_singular = 1
