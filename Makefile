@@ -6,7 +6,7 @@ SHELL := /bin/bash
 
 DECK ?= inputs/embankment.dat
 APT_PACKAGES := gfortran libsuitesparse-dev libhdf5-dev liblapack-dev libblas-dev \
-                pkg-config calculix-ccx
+                pkg-config calculix-ccx libopenblas0-pthread
 PIP_PACKAGES := fpm numpy matplotlib h5py
 
 # HDF5's Fortran modules and libraries live in Debian's serial folders: ask pkg-config.
@@ -15,8 +15,8 @@ HDF5_LDIRS = $(shell pkg-config --libs-only-L hdf5 2>/dev/null)
 RELEASE_FLAGS = -O3 -march=native -funroll-loops $(HDF5_CFLAGS)
 DEBUG_FLAGS = -O0 -g -Wall -fcheck=all -ffpe-trap=invalid,zero,overflow -fbacktrace \
               $(HDF5_CFLAGS)
-FPM_RELEASE = FPM_LDFLAGS="$(HDF5_LDIRS)" fpm --profile release --flag "$(RELEASE_FLAGS)"
-FPM_DEBUG = FPM_LDFLAGS="$(HDF5_LDIRS)" fpm --profile debug --flag "$(DEBUG_FLAGS)"
+# fpm takes the subcommand first: $(call fpm,SUBCOMMAND,PROFILE,FLAGS)
+fpm = FPM_LDFLAGS="$(HDF5_LDIRS)" fpm $(1) --profile $(2) --flag "$(3)"
 
 .PHONY: run test bench deps build build-debug clean
 
@@ -26,12 +26,15 @@ deps:
 
 ## build: release build, program at bin/cfrd
 build: deps
-	@$(FPM_RELEASE) install --prefix "$(CURDIR)" --bindir bin --no-rebuild >/dev/null 2>&1 || \
-	  $(FPM_RELEASE) install --prefix "$(CURDIR)" --bindir bin
+	@mkdir -p build
+	@$(call fpm,install,release,$(RELEASE_FLAGS)) --prefix "$(CURDIR)" --bindir bin \
+	  >build/release.log 2>&1 || { cat build/release.log; exit 1; }
 
 ## build-debug: debug build with every runtime check, program at build/debug-bin/cfrd
 build-debug: deps
-	@$(FPM_DEBUG) install --prefix "$(CURDIR)/build" --bindir debug-bin >/dev/null
+	@mkdir -p build
+	@$(call fpm,install,debug,$(DEBUG_FLAGS)) --prefix "$(CURDIR)/build" --bindir debug-bin \
+	  >build/debug.log 2>&1 || { cat build/debug.log; exit 1; }
 
 ## run: build, run the default deck, print its result table
 run: build
@@ -39,7 +42,8 @@ run: build
 
 ## test: debug build, every test; the last line is `N passed, N failed`
 test: build-debug
-	@tools/run_tests.sh "$(FPM_DEBUG)"
+	@$(call fpm,test,debug,$(DEBUG_FLAGS)) >build/fortran-tests.log 2>&1; \
+	  tools/run_tests.sh build/fortran-tests.log
 
 ## bench: timing figures (see docs/performance.md)
 bench: build

@@ -6,7 +6,7 @@
 #   3. the independent peer: the same embankment through CalculiX.
 # Every check prints PASS or FAIL; the last line is exactly `N passed, N failed`.
 set -u
-fpm_debug=$1              # the fpm command line of the debug build (from the Makefile)
+fortran_log=$1            # output of `fpm test` on the debug build (from the Makefile)
 cfrd=build/debug-bin/cfrd
 work=build/test-work
 rm -rf "$work" && mkdir -p "$work"
@@ -17,15 +17,14 @@ pass() { echo "PASS $1"; passed=$((passed + 1)); }
 fail() { echo "FAIL $1"; failed=$((failed + 1)); }
 
 # 1. Fortran suites: count their PASS/FAIL lines.
-eval "$fpm_debug test" >"$work/fortran.log" 2>&1
-grep -E '^(PASS|FAIL) ' "$work/fortran.log"
-np=$(grep -c '^PASS ' "$work/fortran.log")
-nf=$(grep -c '^FAIL ' "$work/fortran.log")
+grep -E '^(PASS|FAIL) ' "$fortran_log"
+np=$(grep -c '^PASS ' "$fortran_log")
+nf=$(grep -c '^FAIL ' "$fortran_log")
 passed=$((passed + np))
 failed=$((failed + nf))
-if ! grep -q '^fortran: ' "$work/fortran.log"; then
+if ! grep -q '^fortran: ' "$fortran_log"; then
     fail "fortran: the test driver did not finish; its log:"
-    tail -30 "$work/fortran.log"
+    tail -30 "$fortran_log"
 fi
 
 # 2a. Every bad deck is rejected with exit status 2 and the message its `* expect:` card names.

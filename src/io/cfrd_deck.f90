@@ -260,10 +260,13 @@ contains
         character(len=:), allocatable :: units
         character(len=*), parameter :: ctx = 'CONTROL'
         integer :: k, counts_read(3)
-        if (.not. group%present) return
-        if (group%n /= 1) then
+        ! No data card means all defaults (a blank card cannot be written: blank lines are
+        ! skipped).
+        if (group%n == 0) return
+        if (group%n > 1) then
             call fatal_error(error, file//':'//to_text(group%header_line)//': CONTROL takes '// &
-                             'exactly one data card, found '//to_text(group%n), input_error)
+                             'one data card (or none for all defaults), found '// &
+                             to_text(group%n), input_error)
             return
         end if
         associate (card => group%cards(1))
