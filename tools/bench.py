@@ -1,0 +1,277 @@
+#!/usr/bin/env python3
+"""Benchmark of cfrd (`make bench`): timings for docs/performance.md.
+
+(a) Rectangular blocks of 1e3, 1e4, 1e5 square quads (one material, base fixed, gravity)
+    run by cfrd --quiet: neq, nnz and the phase times from the .h5 solver attributes, the
+    wall time of the whole process and its peak memory.
+(b) The issue's embankment at 1e3, 1e4, 1e5 elements run by cfrd and by CalculiX (ccx):
+    wall times, their ratio, peak memories, and the agreement max |du| / max |u|.
+
+  python3 tools/bench.py [--cfrd bin/cfrd] [--workdir build/bench] [--repeat 1]
+                         [--sizes 1000,10000,100000] [--markdown FILE] [--no-ccx]
+
+Each case runs --repeat times (default 1); the minimum wall time is reported. Decks above
+99999 nodes or elements cannot be written in fixed columns (I5), so those use the '&' free
+format (column "deck"). Peak memory is each child's own maximum RSS (GNU time %M, or
+getrusage in a separate process), never a running maximum over several runs.
+"""
+
+import argparse
+import math
+import os
+import platform
+import sys
+
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+import ccx_peer as peer  # noqa: E402
+import embankment as emb  # noqa: E402
+
+ROOT = os.path.dirname(HERE)
+
+
+def machine():
+    """CPU model, logical cores, memory: one line for the tables' caption."""
+    model = platform.processor() or "unknown CPU"
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.lower().startswith("model name"):
+                    model = line.split(":", 1)[1].strip()
+                    break
+    except OSError:
+        pass
+    mem = "unknown"
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemTotal:"):
+                    mem = f"{int(line.split()[1]) / 1024 ** 2:.1f} GiB"
+                    break
+    except OSError:
+        pass
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    return f"{model}, {cores} cores available, {mem} memory, {platform.system()} " \
+           f"{platform.release()}, Python {platform.python_version()}"
+
+
+def block_shape(n, ratio=2.5):
+    """nx, ny with nx*ny == n when a factor pair exists, nx/ny nearest ratio (log scale)."""
+    best = None
+    for ny in range(1, int(math.isqrt(n)) + 1):
+        if n % ny == 0:
+            nx = n // ny
+            score = abs(math.log(nx / ny / ratio))
+            if best is None or score <= best[0] + 1e-12:   # ties: the squarer block
+                best = (score, nx, ny)
+    if best is None or best[0] > 1.0:      # no decent factor pair: round instead
+        ny = max(1, round(math.sqrt(n / ratio)))
+        return max(1, round(n / ny)), ny
+    return best[1], best[2]
+
+
+def writable_mesh(build):
+    """build(free) -> mesh; fixed format when the deck fits its columns."""
+    try:
+        mesh = build(False)
+        emb.deck_lines(mesh)
+        return mesh, "fixed"
+    except emb.FieldOverflow:
+        return build(True), "free"
+
+
+def repeat_run(fn, repeat):
+    """fn() -> (wall, rss, ...); min wall over repeat runs, the largest rss seen."""
+    best, rss_max = None, None
+    for _ in range(repeat):
+        out = fn()
+        if best is None or out[0] < best[0]:
+            best = out
+        if out[1] is not None:
+            rss_max = out[1] if rss_max is None else max(rss_max, out[1])
+    return best, rss_max
+
+
+def mb(kb):
+    return "-" if kb is None else f"{kb / 1024:.0f}"
+
+
+def sec(t):
+    if t is None or (isinstance(t, float) and math.isnan(t)):
+        return "-"
+    return f"{t:.3f}" if t < 10 else f"{t:.1f}"
+
+
+def bench_blocks(cfrd, sizes, workdir, repeat):
+    rows = []
+    for n in sizes:
+        nx, ny = block_shape(n)
+        mesh, form = writable_mesh(lambda free: emb.block_mesh(nx, ny, free=free))
+        deck = os.path.join(workdir, f"block-{mesh.nelem}.dat")
+        emb.write_cfrd_deck(mesh, deck)
+        row = dict(case=f"{nx} x {ny}", nelem=mesh.nelem, nnode=mesh.nnode, form=form)
+        try:
+            (wall, _, h5), rss = repeat_run(lambda: peer.run_cfrd(cfrd, deck, workdir), repeat)
+            res = peer.read_cfrd(h5)
+            row.update(wall=wall, rss=rss, **res["solver"])
+            # Sanity figure, not a test: sum of reactions against the block's weight.
+            row["balance"] = abs(res["reaction"][:, 1].sum() - mesh.total_weight()) \
+                / mesh.total_weight()
+        except (peer.RunError, OSError, KeyError) as exc:
+            row["error"] = str(exc)
+        rows.append(row)
+        print(f"  block {row['case']}: " + (row.get("error") or f"{sec(row['wall'])} s"),
+              file=sys.stderr, flush=True)
+    return rows
+
+
+def bench_embankment(cfrd, sizes, workdir, repeat, with_ccx):
+    rows = []
+    for n in sizes:
+        mesh, form = peer.mesh_for(n)
+        name = f"embankment-{n}"
+        deck = os.path.join(workdir, name + ".dat")
+        emb.write_cfrd_deck(mesh, deck)
+        row = dict(nelem=mesh.nelem, nnode=mesh.nnode, form=form)
+        u_ccx = u = None
+        if with_ccx:
+            job = name + "-ccx"
+            emb.write_ccx_deck(mesh, os.path.join(workdir, job + ".inp"))
+            try:
+                (t, _), rss = repeat_run(lambda: peer.run_ccx(workdir, job), repeat)
+                row.update(t_ccx=t, rss_ccx=rss)
+                u_ccx = emb.ccx_displacement_array(os.path.join(workdir, job + ".dat"),
+                                                   mesh.nnode)
+            except (peer.RunError, ValueError) as exc:
+                row["error_ccx"] = str(exc)
+        if cfrd:
+            try:
+                (t, _, h5), rss = repeat_run(lambda: peer.run_cfrd(cfrd, deck, workdir),
+                                             repeat)
+                row.update(t_cfrd=t, rss_cfrd=rss)
+                u = peer.read_cfrd(h5)["u"]
+            except (peer.RunError, OSError, KeyError) as exc:
+                row["error_cfrd"] = str(exc)
+        if u is not None and u_ccx is not None and u.shape == u_ccx.shape:
+            row["du"] = peer.relative_difference(u, u_ccx)
+        if row.get("t_cfrd") and row.get("t_ccx"):
+            row["ratio"] = row["t_cfrd"] / row["t_ccx"]
+        rows.append(row)
+        print(f"  embankment {n}: cfrd {sec(row.get('t_cfrd'))} s, ccx {sec(row.get('t_ccx'))} s",
+              file=sys.stderr, flush=True)
+    return rows
+
+
+def table(header, rows, align):
+    """Plain aligned text table and the same as markdown."""
+    widths = [max(len(h), *(len(r[i]) for r in rows)) for i, h in enumerate(header)]
+
+    def fmt(cells):
+        return "  ".join(c.rjust(w) if a == "r" else c.ljust(w)
+                         for c, w, a in zip(cells, widths, align))
+    text = [fmt(header), fmt(["-" * w for w in widths])] + [fmt(r) for r in rows]
+    esc = lambda c: c.replace("|", "\\|")                  # noqa: E731
+    md = ["| " + " | ".join(map(esc, header)) + " |",
+          "|" + "|".join("---:" if a == "r" else ":---" for a in align) + "|"]
+    md += ["| " + " | ".join(map(esc, r)) + " |" for r in rows]
+    return "\n".join(text), "\n".join(md)
+
+
+def block_table(rows):
+    header = ["mesh", "elements", "nodes", "deck", "neq", "nnz", "assembly s", "symbolic s",
+              "numeric s", "solve s", "wall s", "peak MB"]
+    cells = []
+    for r in rows:
+        if "error" in r:
+            cells.append([r["case"], str(r["nelem"]), str(r["nnode"]), r["form"]]
+                         + ["-"] * 8)
+            continue
+        cells.append([r["case"], str(r["nelem"]), str(r["nnode"]), r["form"],
+                      str(int(r.get("neq", 0))), str(int(r.get("nnz", 0))),
+                      sec(r.get("t_assembly")), sec(r.get("t_symbolic")),
+                      sec(r.get("t_numeric")), sec(r.get("t_solve")), sec(r["wall"]),
+                      mb(r["rss"])])
+    return table(header, cells, "lrrlrrrrrrrr")
+
+
+def embankment_table(rows):
+    header = ["elements", "nodes", "deck", "cfrd wall s", "ccx wall s", "cfrd/ccx",
+              "cfrd peak MB", "ccx peak MB", "max|du|/max|u|"]
+    cells = []
+    for r in rows:
+        cells.append([str(r["nelem"]), str(r["nnode"]), r["form"], sec(r.get("t_cfrd")),
+                      sec(r.get("t_ccx")),
+                      f"{r['ratio']:.2f}" if "ratio" in r else "-",
+                      mb(r.get("rss_cfrd")), mb(r.get("rss_ccx")),
+                      f"{r['du']:.1e}" if "du" in r else "-"])
+    return table(header, cells, "rrlrrrrrr")
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--cfrd", default=os.path.join(ROOT, "bin", "cfrd"))
+    ap.add_argument("--workdir", default=os.path.join(ROOT, "build", "bench"))
+    ap.add_argument("--repeat", type=int, default=1, help="runs per case, minimum taken")
+    ap.add_argument("--sizes", default="1000,10000,100000",
+                    help="comma-separated element counts (default 1000,10000,100000)")
+    ap.add_argument("--markdown", help="also write the tables as markdown to this file")
+    ap.add_argument("--no-ccx", action="store_true", help="skip CalculiX")
+    args = ap.parse_args(argv)
+    sizes = [int(s) for s in args.sizes.split(",") if s.strip()]
+    os.makedirs(args.workdir, exist_ok=True)
+    cfrd = args.cfrd if os.access(args.cfrd, os.X_OK) else None
+    if cfrd is None:
+        print(f"bench: no program at {args.cfrd} (build it with `make build`); "
+              f"cfrd columns left empty", file=sys.stderr)
+    mach = machine()
+    notes = [f"Machine: {mach}."]
+    ccx_threads = os.environ.get("OMP_NUM_THREADS", "unset")
+    notes.append(f"Wall times are the minimum of {args.repeat} run(s) of the whole process "
+                 f"(reading the deck to writing the results); peak memory is the process's "
+                 f"maximum resident set. CalculiX {ccx_version()} with its default solver "
+                 f"(OMP_NUM_THREADS {ccx_threads}).")
+
+    block_rows = bench_blocks(cfrd, sizes, args.workdir, args.repeat) if cfrd else []
+    emb_rows = bench_embankment(cfrd, sizes, args.workdir, args.repeat, not args.no_ccx)
+
+    out_text, out_md = [mach, ""], ["\n".join(notes), ""]
+    if block_rows:
+        t, m = block_table(block_rows)
+        out_text += ["(a) cfrd on rectangular blocks of square quads, base fixed, gravity", t,
+                     ""]
+        out_md += ["**(a) cfrd on rectangular blocks** of square quads (1 m), one material, "
+                   "base fixed, gravity; phase times from the HDF5 solver attributes.", "",
+                   m, ""]
+        for r in block_rows:
+            if "error" in r:
+                out_text.append(f"block {r['case']}: {r['error']}")
+    t, m = embankment_table(emb_rows)
+    out_text += ["(b) embankment (H 178 m, slopes 1:1.4, two zones), cfrd vs CalculiX", t]
+    out_md += ["**(b) The embankment** (H 178 m, crest 12 m, slopes 1V:1.4H, two zones, "
+               "gravity): cfrd against CalculiX (CPE4) on the same mesh.", "", m, ""]
+    for r in emb_rows:
+        for key in ("error_cfrd", "error_ccx"):
+            if key in r:
+                out_text.append(f"embankment {r['nelem']}: {r[key]}")
+    print("\n".join(out_text))
+    if args.markdown:
+        with open(args.markdown, "w") as f:
+            f.write("\n".join(out_md).rstrip() + "\n")
+    failed = any("error" in r for r in block_rows) or \
+        any("error_cfrd" in r or "error_ccx" in r for r in emb_rows)
+    return 1 if failed or cfrd is None else 0
+
+
+def ccx_version():
+    import subprocess
+    try:
+        out = subprocess.run(["ccx", "-v"], capture_output=True, text=True, timeout=20).stdout
+        ver = [w for w in out.split() if w[:1].isdigit()]
+        return ver[-1] if ver else "(version unknown)"
+    except (OSError, subprocess.SubprocessError):
+        return "(not found)"
+
+
+if __name__ == "__main__":
+    sys.exit(main())
