@@ -335,7 +335,12 @@ contains
         integer :: hdferr
         if (.not. st%ok) return
         dims = size(values, kind=hsize_t)
-        call h5screate_simple_f(1, dims, space_id, hdferr)
+        ! One value is a scalar attribute (h5py reads a float, not an array).
+        if (size(values) == 1) then
+            call h5screate_f(H5S_SCALAR_F, space_id, hdferr)
+        else
+            call h5screate_simple_f(1, dims, space_id, hdferr)
+        end if
         call h5acreate_f(loc, name, H5T_NATIVE_DOUBLE, space_id, attr_id, hdferr)
         if (hdferr >= 0) then
             call h5awrite_f(attr_id, H5T_NATIVE_DOUBLE, values, dims, hdferr)
@@ -356,7 +361,7 @@ contains
         integer(hsize_t) :: dims(1) = 1
         integer :: hdferr
         if (.not. st%ok) return
-        call h5screate_simple_f(1, dims, space_id, hdferr)
+        call h5screate_f(H5S_SCALAR_F, space_id, hdferr)
         call h5acreate_f(loc, name, H5T_NATIVE_INTEGER, space_id, attr_id, hdferr)
         if (hdferr >= 0) then
             call h5awrite_f(attr_id, H5T_NATIVE_INTEGER, [value], dims, hdferr)
