@@ -1,12 +1,307 @@
-!> Tests of solver_sparse (placeholder until its suite lands).
+!> Tests of the sparse pattern, assembly and the UMFPACK binding, against dense references:
+!> the dense assembled matrix, LAPACK's dgesv, and a spring chain in closed form.
 module test_solver_sparse
-    use cfrd_testing, only: unittest_t
+    use cfrd_kinds, only: dp
+    use cfrd_error, only: error_t, numerical_error
+    use cfrd_testing, only: unittest_t, new_unittest, check, fail
+    use cfrd_sparse, only: sparse_pattern_t, build_pattern, assemble_element, csc_matvec
+    use cfrd_umfpack, only: umfpack_t
     implicit none
     private
+
     public :: collect_solver_sparse
+
+    interface
+        subroutine dgesv(n, nrhs, a, lda, ipiv, b, ldb, info)
+            import :: dp
+            integer, intent(in) :: n, nrhs, lda, ldb
+            real(dp), intent(inout) :: a(lda, *), b(ldb, *)
+            integer, intent(out) :: ipiv(*), info
+        end subroutine dgesv
+    end interface
+
 contains
+
     subroutine collect_solver_sparse(tests)
         type(unittest_t), allocatable, intent(out) :: tests(:)
-        allocate (tests(0))
+        tests = [ &
+                new_unittest('pattern_matches_dense_assembly', test_pattern_dense), &
+                new_unittest('matvec_matches_dense', test_matvec), &
+                new_unittest('solve_matches_dgesv', test_solve_dgesv), &
+                new_unittest('spring_chain_closed_form', test_spring_chain), &
+                new_unittest('symbolic_reuse', test_symbolic_reuse), &
+                new_unittest('singular_matrix_is_an_error', test_singular), &
+                new_unittest('nearly_singular_matrix_is_an_error', test_nearly_singular), &
+                new_unittest('rcond_of_diagonal', test_rcond) &
+                ]
     end subroutine collect_solver_sparse
+
+    !> Three elements of different sizes on 6 equations, with prescribed dofs (0) mixed in:
+    !> element 1 (3 dofs) 1 2 0, element 2 (4 dofs) 2 3 0 4, element 3 (2 dofs) 5 6... and 4 6.
+    subroutine small_system(dof_ptr, dofs, kes)
+        integer, allocatable, intent(out) :: dof_ptr(:), dofs(:)
+        real(dp), allocatable, intent(out) :: kes(:)   ! all element matrices, column-major
+        integer :: e, m, i, j, q
+        dof_ptr = [1, 4, 8, 10, 12]
+        dofs = [1, 2, 0, 2, 3, 0, 4, 5, 6, 4, 6]
+        allocate (kes(9 + 16 + 4 + 4))
+        q = 0
+        do e = 1, 4
+            m = dof_ptr(e + 1) - dof_ptr(e)
+            do j = 1, m
+                do i = 1, m
+                    q = q + 1
+                    ! Symmetric, diagonally dominant: SPD element blocks.
+                    if (i == j) then
+                        kes(q) = 10.0_dp + e + i
+                    else
+                        kes(q) = 1.0_dp/(e + i + j)
+                    end if
+                end do
+            end do
+        end do
+    end subroutine small_system
+
+    subroutine assemble_both(pattern, values, dense, error)
+        type(sparse_pattern_t), intent(out) :: pattern
+        real(dp), allocatable, intent(out) :: values(:), dense(:, :)
+        type(error_t), allocatable, intent(out) :: error
+        integer, allocatable :: dof_ptr(:), dofs(:)
+        real(dp), allocatable :: kes(:)
+        integer :: e, m, i, j, q, off
+        call small_system(dof_ptr, dofs, kes)
+        call build_pattern(pattern, 6, dof_ptr, dofs, error)
+        if (allocated(error)) return
+        allocate (values(pattern%nnz), source=0.0_dp)
+        allocate (dense(6, 6), source=0.0_dp)
+        off = 0
+        do e = 1, 4
+            m = dof_ptr(e + 1) - dof_ptr(e)
+            call assemble_element(pattern, values, e, reshape(kes(off + 1:off + m*m), [m, m]))
+            q = off
+            do j = 1, m
+                do i = 1, m
+                    q = q + 1
+                    associate (r => dofs(dof_ptr(e) + i - 1), c => dofs(dof_ptr(e) + j - 1))
+                        if (r > 0 .and. c > 0) dense(r, c) = dense(r, c) + kes(q)
+                    end associate
+                end do
+            end do
+            off = off + m*m
+        end do
+    end subroutine assemble_both
+
+    !> Every entry of the sparse matrix equals the dense assembly; the pattern holds exactly
+    !> the structurally non-zero entries.
+    subroutine test_pattern_dense(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(sparse_pattern_t) :: pattern
+        real(dp), allocatable :: values(:), dense(:, :), rebuilt(:, :)
+        integer :: j, p, count
+        call assemble_both(pattern, values, dense, error)
+        if (allocated(error)) return
+        allocate (rebuilt(6, 6), source=0.0_dp)
+        do j = 1, 6
+            do p = pattern%colptr(j) + 1, pattern%colptr(j + 1)
+                rebuilt(pattern%rowind(p) + 1, j) = values(p)
+            end do
+        end do
+        call check(error, maxval(abs(rebuilt - dense)), 0.0_dp, 'entries', abs=0.0_dp)
+        if (allocated(error)) return
+        count = count_nonzero(dense)
+        call check(error, pattern%nnz, count, 'stored entries = structural non-zeros')
+    end subroutine test_pattern_dense
+
+    integer function count_nonzero(a)
+        real(dp), intent(in) :: a(:, :)
+        count_nonzero = count(a /= 0.0_dp)
+    end function count_nonzero
+
+    subroutine test_matvec(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(sparse_pattern_t) :: pattern
+        real(dp), allocatable :: values(:), dense(:, :)
+        real(dp) :: x(6), y(6)
+        call assemble_both(pattern, values, dense, error)
+        if (allocated(error)) return
+        x = [1.0_dp, -2.0_dp, 0.5_dp, 3.0_dp, -1.0_dp, 0.25_dp]
+        call csc_matvec(pattern, values, x, y)
+        call check(error, maxval(abs(y - matmul(dense, x))), 0.0_dp, 'A x', &
+                   abs=1e-14_dp*maxval(abs(y)))
+    end subroutine test_matvec
+
+    subroutine test_solve_dgesv(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(sparse_pattern_t) :: pattern
+        type(umfpack_t) :: solver
+        real(dp), allocatable :: values(:), dense(:, :)
+        real(dp) :: b(6), x(6), reference(6, 1)
+        integer :: ipiv(6), info
+        call assemble_both(pattern, values, dense, error)
+        if (allocated(error)) return
+        b = [1.0_dp, 2.0_dp, 3.0_dp, 4.0_dp, 5.0_dp, 6.0_dp]
+        call solver%factorise(pattern, values, error)
+        if (allocated(error)) return
+        call solver%solve(pattern, values, b, x, error)
+        if (allocated(error)) return
+        reference(:, 1) = b
+        call dgesv(6, 1, dense, 6, ipiv, reference, 6, info)
+        call check(error, info, 0, 'dgesv info')
+        if (allocated(error)) return
+        call check(error, maxval(abs(x - reference(:, 1))), 0.0_dp, 'x against dgesv', &
+                   abs=1e-12_dp*maxval(abs(reference)))
+    end subroutine test_solve_dgesv
+
+    !> n springs of stiffness k in a chain, fixed at one end, force F at the other: node i
+    !> moves i F / k (each spring carries F).
+    subroutine chain(n, k, pattern, values, error, weak_spring)
+        integer, intent(in) :: n
+        real(dp), intent(in) :: k
+        type(sparse_pattern_t), intent(out) :: pattern
+        real(dp), allocatable, intent(out) :: values(:)
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), intent(in), optional :: weak_spring   ! stiffness of spring 1 if present
+        integer, allocatable :: dof_ptr(:), dofs(:)
+        real(dp) :: ks
+        integer :: e
+        allocate (dof_ptr(n + 1), dofs(2*n))
+        do e = 1, n
+            dof_ptr(e) = 2*e - 1
+            dofs(2*e - 1:2*e) = [e - 1, e]     ! equation 0 is the fixed end
+        end do
+        dof_ptr(n + 1) = 2*n + 1
+        call build_pattern(pattern, n, dof_ptr, dofs, error)
+        if (allocated(error)) return
+        allocate (values(pattern%nnz), source=0.0_dp)
+        do e = 1, n
+            ks = k
+            if (e == 1 .and. present(weak_spring)) ks = weak_spring
+            call assemble_element(pattern, values, e, &
+                                  ks*reshape([1.0_dp, -1.0_dp, -1.0_dp, 1.0_dp], [2, 2]))
+        end do
+    end subroutine chain
+
+    subroutine test_spring_chain(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(sparse_pattern_t) :: pattern
+        type(umfpack_t) :: solver
+        real(dp), allocatable :: values(:), b(:), x(:)
+        real(dp), parameter :: k = 250.0_dp, force = 10.0_dp
+        integer, parameter :: n = 50
+        integer :: i
+        call chain(n, k, pattern, values, error)
+        if (allocated(error)) return
+        allocate (b(n), source=0.0_dp, x(n))
+        b(n) = force
+        call solver%factorise(pattern, values, error)
+        if (allocated(error)) return
+        call solver%solve(pattern, values, b, x, error)
+        if (allocated(error)) return
+        do i = 1, n
+            call check(error, x(i), i*force/k, 'displacement of a chain node', rel=1e-12_dp)
+            if (allocated(error)) return
+        end do
+    end subroutine test_spring_chain
+
+    !> Factorise, change the values on the same pattern, factorise again without a new
+    !> symbolic analysis: the answer is that of the new matrix (dgesv).
+    subroutine test_symbolic_reuse(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(sparse_pattern_t) :: pattern
+        type(umfpack_t) :: solver
+        real(dp), allocatable :: values(:), dense(:, :)
+        real(dp) :: b(6), x(6), reference(6, 1)
+        integer :: ipiv(6), info, j, p
+        call assemble_both(pattern, values, dense, error)
+        if (allocated(error)) return
+        call solver%analyse(pattern, values, error)
+        if (allocated(error)) return
+        call solver%factorise(pattern, values, error)
+        if (allocated(error)) return
+        values = 2.0_dp*values
+        do j = 1, 6
+            do p = pattern%colptr(j) + 1, pattern%colptr(j + 1)
+                if (pattern%rowind(p) + 1 == j) values(p) = values(p) + j
+            end do
+            dense(j, j) = dense(j, j)
+        end do
+        dense = 2.0_dp*dense
+        do j = 1, 6
+            dense(j, j) = dense(j, j) + j
+        end do
+        call solver%factorise(pattern, values, error)
+        if (allocated(error)) return
+        b = [6.0_dp, 5.0_dp, 4.0_dp, 3.0_dp, 2.0_dp, 1.0_dp]
+        call solver%solve(pattern, values, b, x, error)
+        if (allocated(error)) return
+        reference(:, 1) = b
+        call dgesv(6, 1, dense, 6, ipiv, reference, 6, info)
+        call check(error, maxval(abs(x - reference(:, 1))), 0.0_dp, 'x after refactorisation', &
+                   abs=1e-12_dp*maxval(abs(reference)))
+    end subroutine test_symbolic_reuse
+
+    subroutine expect_singular(solver, pattern, values, error)
+        type(umfpack_t), intent(inout) :: solver
+        type(sparse_pattern_t), intent(in) :: pattern
+        real(dp), intent(in) :: values(:)
+        type(error_t), allocatable, intent(out) :: error
+        call solver%factorise(pattern, values, error)
+        if (.not. allocated(error)) then
+            call fail(error, 'a singular matrix was factorised without an error')
+            return
+        end if
+        if (error%category /= numerical_error .or. index(error%message, 'singular') == 0) then
+            error%message = 'unexpected error: '//error%message
+            return
+        end if
+        deallocate (error)
+    end subroutine expect_singular
+
+    !> A chain without its support: the rigid translation makes K singular.
+    subroutine test_singular(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(sparse_pattern_t) :: pattern
+        type(umfpack_t) :: solver
+        real(dp), allocatable :: values(:)
+        integer, allocatable :: dofs(:)
+        integer :: e
+        dofs = [(e, e + 1, e=1, 4)]
+        call build_pattern(pattern, 5, [1, 3, 5, 7, 9], dofs, error)
+        if (allocated(error)) return
+        allocate (values(pattern%nnz), source=0.0_dp)
+        do e = 1, 4
+            call assemble_element(pattern, values, e, &
+                                  reshape([1.0_dp, -1.0_dp, -1.0_dp, 1.0_dp], [2, 2]))
+        end do
+        call expect_singular(solver, pattern, values, error)
+    end subroutine test_singular
+
+    !> A chain hanging on a spring 1e-20 times as stiff as the others.
+    subroutine test_nearly_singular(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(sparse_pattern_t) :: pattern
+        type(umfpack_t) :: solver
+        real(dp), allocatable :: values(:)
+        call chain(5, 1.0_dp, pattern, values, error, weak_spring=1.0e-20_dp)
+        if (allocated(error)) return
+        call expect_singular(solver, pattern, values, error)
+    end subroutine test_nearly_singular
+
+    !> UMFPACK's estimate is min |U_ii| / max |U_ii| of the row-scaled matrix (by default each
+    !> row is divided by the sum of its magnitudes, UMFPACK_SCALE_SUM): a diagonal matrix
+    !> scales to the identity, so diag(1, 4) has rcond exactly 1 (UMFPACK user guide, Info).
+    subroutine test_rcond(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(sparse_pattern_t) :: pattern
+        type(umfpack_t) :: solver
+        real(dp), allocatable :: values(:)
+        call build_pattern(pattern, 2, [1, 2, 3], [1, 2], error)
+        if (allocated(error)) return
+        allocate (values(pattern%nnz), source=0.0_dp)
+        call assemble_element(pattern, values, 1, reshape([1.0_dp], [1, 1]))
+        call assemble_element(pattern, values, 2, reshape([4.0_dp], [1, 1]))
+        call solver%factorise(pattern, values, error)
+        if (allocated(error)) return
+        call check(error, solver%rcond(), 1.0_dp, 'rcond', rel=1e-14_dp)
+    end subroutine test_rcond
 end module test_solver_sparse
