@@ -178,21 +178,28 @@ def table(header, rows, align):
     return "\n".join(text), "\n".join(md)
 
 
+PHASES = ("t_pattern", "t_assembly", "t_symbolic", "t_numeric", "t_solve")
+
+
 def block_table(rows):
-    header = ["mesh", "elements", "nodes", "deck", "neq", "nnz", "assembly s", "symbolic s",
-              "numeric s", "solve s", "wall s", "peak MB"]
+    """Phase times from the run's HDF5 file; 'total' is pattern + assembly + symbolic +
+    numeric + solve (the issue's 'assemble + factor + solve'), 'asm %' the share of pattern
+    and assembly in it, 'wall' the whole process (reading, analysis, writing both files)."""
+    header = ["mesh", "elements", "nodes", "deck", "neq", "nnz", "pattern s", "assembly s",
+              "symbolic s", "numeric s", "solve s", "total s", "asm %", "wall s", "peak MB"]
     cells = []
     for r in rows:
         if "error" in r:
             cells.append([r["case"], str(r["nelem"]), str(r["nnode"]), r["form"]]
-                         + ["-"] * 8)
+                         + ["-"] * (len(header) - 4))
             continue
+        total = sum(r.get(k, float("nan")) for k in PHASES)
+        share = 100.0 * (r.get("t_pattern", 0.0) + r.get("t_assembly", 0.0)) / total
         cells.append([r["case"], str(r["nelem"]), str(r["nnode"]), r["form"],
-                      str(int(r.get("neq", 0))), str(int(r.get("nnz", 0))),
-                      sec(r.get("t_assembly")), sec(r.get("t_symbolic")),
-                      sec(r.get("t_numeric")), sec(r.get("t_solve")), sec(r["wall"]),
-                      mb(r["rss"])])
-    return table(header, cells, "lrrlrrrrrrrr")
+                      str(int(r.get("neq", 0))), str(int(r.get("nnz", 0)))]
+                     + [sec(r.get(k)) for k in PHASES]
+                     + [sec(total), f"{share:.0f}", sec(r["wall"]), mb(r["rss"])])
+    return table(header, cells, "lrrlrr" + "r" * 9)
 
 
 def embankment_table(rows):
