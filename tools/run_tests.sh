@@ -60,7 +60,13 @@ check_status cli/version 0 "$cfrd" --version
 check_status cli/help 0 "$cfrd" --help
 check_status cli/check-good-deck 0 "$cfrd" --check inputs/example.dat
 
-# 2c. A failed run leaves the results of an earlier run byte-identical, and no temporary files.
+# 2c. --out puts both result files in the directory named; --quiet prints nothing.
+mkdir -p "$work/out"
+"$cfrd" --quiet --out "$work/out" inputs/example.dat >"$work/out.txt" 2>&1
+if [[ $? -eq 0 && -s $work/out/example.out && -s $work/out/example.h5 && ! -s $work/out.txt ]]
+then pass cli/out-dir-and-quiet; else fail "cli/out-dir-and-quiet: $(head -c 200 "$work/out.txt")"; fi
+
+# 2d. A failed run leaves the results of an earlier run byte-identical, and no temporary files.
 tools/cli_failure_test.sh "$cfrd" "$work/failure" && pass cli/failed-run-keeps-results ||
     fail cli/failed-run-keeps-results
 
