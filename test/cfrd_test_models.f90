@@ -2,7 +2,7 @@
 !> independently of the deck reader.
 module cfrd_test_models
     use cfrd_kinds, only: dp
-    use cfrd_model, only: model_t, material_t, gravity_load_t, pressure_load_t, elem_quad4
+    use cfrd_model, only: model_t, material_t, pressure_load_t, elem_quad4
     implicit none
     private
 
@@ -31,8 +31,10 @@ contains
         model%materials = materials
         allocate (model%fixed(2, model%mesh%nnode), source=.false.)
         allocate (model%prescribed(2, model%mesh%nnode), source=0.0_dp)
-        allocate (model%nodal_force(2, model%mesh%nnode), source=0.0_dp)
-        allocate (model%gravity(0), model%pressures(0))
+        allocate (model%load_sets(1), model%stages(1))
+        allocate (model%load_sets(1)%nodal_force(2, model%mesh%nnode), source=0.0_dp)
+        allocate (model%load_sets(1)%gravity(0), model%load_sets(1)%pressures(0))
+        model%stages(1)%label = 'LOADS'
     end subroutine new_model
 
     pure function elastic_material(e, nu, unit_weight) result(mat)
@@ -48,7 +50,9 @@ contains
         type(model_t), intent(inout) :: model
         integer, intent(in) :: element, face
         real(dp), intent(in) :: p1, p2
-        model%pressures = [model%pressures, pressure_load_t(element, face, p1, p2)]
+        associate (set => model%load_sets(1))
+            set%pressures = [set%pressures, pressure_load_t(element, face, p1, p2)]
+        end associate
     end subroutine add_pressure
 
     !> |applied + reactions| / |applied|, the equilibrium of the whole model.

@@ -149,7 +149,7 @@ contains
         call new_model(model, x, conn, [(1, i=1, n)], [elastic_material(e_mod, nu, gamma)])
         model%fixed(1, :) = .true.
         model%fixed(2, 1:2) = .true.
-        model%gravity = [gravity_load_t()]
+        model%load_sets(1)%gravity = [gravity_load_t()]
         call solve_linear_static(model, results, error)
         if (allocated(error)) return
         m = constrained_modulus(e_mod, nu)

@@ -144,7 +144,7 @@ contains
         if (allocated(error)) return
         call check(error, model%gamma_w, 9.81_dp, 'default GAMMAW', abs=0.0_dp)
         if (allocated(error)) return
-        call check(error, size(model%gravity), 0, 'no loads without LOADS')
+        call check(error, size(model%load_sets(1)%gravity), 0, 'no loads without LOADS')
         if (allocated(error)) return
         call check(error, model%prescribed(1, 2), 0.0_dp, 'blank UX', abs=0.0_dp)
         if (allocated(error)) return
@@ -198,9 +198,9 @@ contains
         if (allocated(error)) return
         call check(error, all(fixed%mesh%conn == free%mesh%conn), 'connectivity equal')
         if (allocated(error)) return
-        call check(error, free%gravity(1)%ax, 0.5_dp, 'AX in free format', abs=0.0_dp)
+        call check(error, free%load_sets(1)%gravity(1)%ax, 0.5_dp, 'AX in free format', abs=0.0_dp)
         if (allocated(error)) return
-        call check(error, free%gravity(1)%group, 1, 'gravity group in free format')
+        call check(error, free%load_sets(1)%gravity(1)%group, 1, 'gravity group in free format')
     end subroutine test_free_format
 
     !> GRAVITY, FORCE (added over a range) and PRESSURE (P2 defaults to P1).
@@ -214,20 +214,20 @@ contains
                        'FORCE         6                 1.5'//nl// &
                        'PRESSURE      2    2      30.0'//nl), model, error)
         if (allocated(error)) return
-        call check(error, model%gravity(1)%group, all_groups, 'blank group is ALL')
+        call check(error, model%load_sets(1)%gravity(1)%group, all_groups, 'blank group is ALL')
         if (allocated(error)) return
-        call check(error, model%gravity(1)%ay, -1.0_dp, 'default AY', abs=0.0_dp)
+        call check(error, model%load_sets(1)%gravity(1)%ay, -1.0_dp, 'default AY', abs=0.0_dp)
         if (allocated(error)) return
-        call check(error, model%nodal_force(1, 6), 11.5_dp, 'FX at node 6 (10 + 1.5)', &
+        call check(error, model%load_sets(1)%nodal_force(1, 6), 11.5_dp, 'FX at node 6 (10 + 1.5)', &
                    abs=0.0_dp)
         if (allocated(error)) return
-        call check(error, model%nodal_force(2, 4), -5.0_dp, 'FY at node 4', abs=0.0_dp)
+        call check(error, model%load_sets(1)%nodal_force(2, 4), -5.0_dp, 'FY at node 4', abs=0.0_dp)
         if (allocated(error)) return
-        call check(error, model%nodal_force(2, 5), 0.0_dp, 'node 5 skipped by INC', abs=0.0_dp)
+        call check(error, model%load_sets(1)%nodal_force(2, 5), 0.0_dp, 'node 5 skipped by INC', abs=0.0_dp)
         if (allocated(error)) return
-        call check(error, model%pressures(1)%face, 2, 'face')
+        call check(error, model%load_sets(1)%pressures(1)%face, 2, 'face')
         if (allocated(error)) return
-        call check(error, model%pressures(1)%p2, 30.0_dp, 'P2 defaults to P1', abs=0.0_dp)
+        call check(error, model%load_sets(1)%pressures(1)%p2, 30.0_dp, 'P2 defaults to P1', abs=0.0_dp)
     end subroutine test_loads
 
     subroutine test_control(error)

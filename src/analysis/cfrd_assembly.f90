@@ -1,29 +1,30 @@
-!> Global bookkeeping shared by every analysis: equation numbers, element dof lists, the
-!> element implementations, external loads, and the loop that assembles the stiffness or the
-!> internal forces through the one element interface.
+!> Global bookkeeping shared by every analysis: equation numbers of the active mesh, element
+!> dof lists, the element implementations, external loads, and the loops that assemble the
+!> tangent stiffness and the internal forces through the one element interface.
 module cfrd_assembly
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t
-    use cfrd_model, only: model_t, all_groups
+    use cfrd_model, only: model_t, load_set_t, all_groups
     use cfrd_element, only: element_t
     use cfrd_element_library, only: make_element
     use cfrd_edge_load, only: face_pressure_forces
-    use cfrd_elastic, only: elastic_dmatrix
+    use cfrd_material_law, only: nhistory, material_tangent
     use cfrd_sparse, only: sparse_pattern_t, assemble_element
     implicit none
     private
 
     public :: element_box_t, dof_map_t
-    public :: make_elements, number_equations, external_forces
-    public :: assemble_stiffness, elastic_tangents, gather
+    public :: make_elements, number_equations, load_set_forces, fill_forces
+    public :: assemble_tangent, internal_forces, element_tangents, gather
 
     !> One element implementation per element kind used by the mesh.
     type :: element_box_t
         class(element_t), allocatable :: element
     end type element_box_t
 
-    !> Equation numbers: eq(2, nnode) > 0 for a free dof, 0 for a prescribed one;
-    !> dof_ptr / dofs list each element's equation numbers, as the sparse pattern wants them.
+    !> Equation numbers of the active mesh: eq(2, nnode) > 0 for a free dof of an active node,
+    !> 0 otherwise; dof_ptr / dofs list each element's equation numbers (all 0 for an inactive
+    !> element), as the sparse pattern wants them.
     type :: dof_map_t
         integer :: neq = 0
         integer, allocatable :: eq(:, :)
@@ -42,28 +43,41 @@ contains
         allocate (library(maxval(model%mesh%kind)))
         do kind = 1, size(library)
             if (.not. any(model%mesh%kind == kind)) cycle
-            call make_element(kind, library(kind)%element, error)
+            call make_element(kind, model%analysis, library(kind)%element, error)
             if (allocated(error)) return
         end do
     end subroutine make_elements
 
-    !> Number the free dofs node by node; list each element's equation numbers.
-    subroutine number_equations(model, library, dofmap)
+    !> Nodes used by an active element.
+    pure function active_nodes(model, active) result(used)
+        type(model_t), intent(in) :: model
+        logical, intent(in) :: active(:)
+        logical, allocatable :: used(:)
+        integer :: e
+        allocate (used(model%mesh%nnode), source=.false.)
+        do e = 1, model%mesh%nelem
+            if (active(e)) used(model%mesh%conn(:, e)) = .true.
+        end do
+    end function active_nodes
+
+    !> Number the free dofs of the active nodes node by node; list each element's equations.
+    subroutine number_equations(model, library, active, dofmap)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
+        logical, intent(in) :: active(:)
         type(dof_map_t), intent(out) :: dofmap
+        logical, allocatable :: used(:)
         integer :: node, k, e, nn, pos
         associate (mesh => model%mesh)
-            allocate (dofmap%eq(2, mesh%nnode))
+            used = active_nodes(model, active)
+            allocate (dofmap%eq(2, mesh%nnode), source=0)
             dofmap%neq = 0
             do node = 1, mesh%nnode
+                if (.not. used(node)) cycle
                 do k = 1, 2
-                    if (model%fixed(k, node)) then
-                        dofmap%eq(k, node) = 0
-                    else
-                        dofmap%neq = dofmap%neq + 1
-                        dofmap%eq(k, node) = dofmap%neq
-                    end if
+                    if (model%fixed(k, node)) cycle
+                    dofmap%neq = dofmap%neq + 1
+                    dofmap%eq(k, node) = dofmap%neq
                 end do
             end do
             allocate (dofmap%dof_ptr(mesh%nelem + 1))
@@ -72,8 +86,9 @@ contains
                 nn = library(mesh%kind(e))%element%nodes()
                 dofmap%dof_ptr(e + 1) = dofmap%dof_ptr(e) + 2*nn
             end do
-            allocate (dofmap%dofs(dofmap%dof_ptr(mesh%nelem + 1) - 1))
+            allocate (dofmap%dofs(dofmap%dof_ptr(mesh%nelem + 1) - 1), source=0)
             do e = 1, mesh%nelem
+                if (.not. active(e)) cycle
                 pos = dofmap%dof_ptr(e)
                 nn = (dofmap%dof_ptr(e + 1) - pos)/2
                 do k = 1, nn
@@ -95,97 +110,146 @@ contains
         end do
     end function gather
 
-    !> External forces (2, nnode): gravity on element groups, nodal forces, face pressures.
-    subroutine external_forces(model, library, force)
+    !> Add element e's nodal vector fe to the global field.
+    pure subroutine scatter_add(model, e, nn, fe, field)
+        type(model_t), intent(in) :: model
+        integer, intent(in) :: e, nn
+        real(dp), intent(in) :: fe(:)
+        real(dp), intent(inout) :: field(:, :)
+        integer :: k
+        do k = 1, nn
+            field(:, model%mesh%conn(k, e)) = field(:, model%mesh%conn(k, e)) + fe(2*k - 1:2*k)
+        end do
+    end subroutine scatter_add
+
+    !> Gravity b = gamma (ax, ay) on element e, added to force.
+    subroutine add_gravity(model, library, e, ax, ay, force)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
-        real(dp), intent(out) :: force(:, :)
-        real(dp), allocatable :: fe(:)
-        real(dp) :: b(2), fa(2), fb(2)
-        integer :: ig, e, nn, k, a, c
+        integer, intent(in) :: e
+        real(dp), intent(in) :: ax, ay
+        real(dp), intent(inout) :: force(:, :)
+        real(dp) :: fe(16), b(2)
+        integer :: nn
         associate (mesh => model%mesh)
-            force = model%nodal_force
-            do ig = 1, size(model%gravity)
+            nn = library(mesh%kind(e))%element%nodes()
+            b = model%materials(mesh%material(e))%unit_weight*[ax, ay]
+            call library(mesh%kind(e))%element%body_force(mesh%x(:, mesh%conn(1:nn, e)), b, &
+                                                          fe(1:2*nn))
+            call scatter_add(model, e, nn, fe(1:2*nn), force)
+        end associate
+    end subroutine add_gravity
+
+    !> Forces (2, nnode) of a load set on the active elements: gravity on element groups,
+    !> nodal forces, face pressures.
+    subroutine load_set_forces(model, library, set, active, force)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        type(load_set_t), intent(in) :: set
+        logical, intent(in) :: active(:)
+        real(dp), intent(out) :: force(:, :)
+        real(dp) :: fa(2), fb(2)
+        integer :: ig, e, a, c
+        associate (mesh => model%mesh)
+            force = set%nodal_force
+            do ig = 1, size(set%gravity)
                 do e = 1, mesh%nelem
-                    if (model%gravity(ig)%group /= all_groups .and. &
-                        mesh%group(e) /= model%gravity(ig)%group) cycle
-                    nn = library(mesh%kind(e))%element%nodes()
-                    b = model%materials(mesh%material(e))%unit_weight* &
-                        [model%gravity(ig)%ax, model%gravity(ig)%ay]
-                    if (allocated(fe)) deallocate (fe)
-                    allocate (fe(2*nn))
-                    call library(mesh%kind(e))%element%body_force( &
-                        mesh%x(:, mesh%conn(1:nn, e)), b, fe)
-                    do k = 1, nn
-                        force(:, mesh%conn(k, e)) = force(:, mesh%conn(k, e)) + fe(2*k - 1:2*k)
-                    end do
+                    if (.not. active(e)) cycle
+                    if (set%gravity(ig)%group /= all_groups .and. &
+                        mesh%group(e) /= set%gravity(ig)%group) cycle
+                    call add_gravity(model, library, e, set%gravity(ig)%ax, &
+                                     set%gravity(ig)%ay, force)
                 end do
             end do
-            do ig = 1, size(model%pressures)
-                e = model%pressures(ig)%element
-                a = mesh%conn(model%pressures(ig)%face, e)
-                c = mesh%conn(mod(model%pressures(ig)%face, 4) + 1, e)
-                call face_pressure_forces(mesh%x(:, a), mesh%x(:, c), model%pressures(ig)%p1, &
-                                          model%pressures(ig)%p2, fa, fb)
+            do ig = 1, size(set%pressures)
+                e = set%pressures(ig)%element
+                a = mesh%conn(set%pressures(ig)%face, e)
+                c = mesh%conn(mod(set%pressures(ig)%face, 4) + 1, e)
+                call library(mesh%kind(e))%element%face_pressure( &
+                    mesh%x(:, a), mesh%x(:, c), set%pressures(ig)%p1, set%pressures(ig)%p2, &
+                    fa, fb)
                 force(:, a) = force(:, a) + fa
                 force(:, c) = force(:, c) + fb
             end do
         end associate
-    end subroutine external_forces
+    end subroutine load_set_forces
 
-    !> The linear elastic tangent of element e at each of its ngauss points.
-    pure subroutine elastic_tangents(model, e, dmat)
-        type(model_t), intent(in) :: model
-        integer, intent(in) :: e
-        real(dp), intent(out) :: dmat(:, :, :)
-        integer :: ig
-        associate (mat => model%materials(model%mesh%material(e)))
-            do ig = 1, size(dmat, 3)
-                dmat(:, :, ig) = elastic_dmatrix(mat%youngs_modulus, mat%poisson_ratio)
-            end do
-        end associate
-    end subroutine elastic_tangents
-
-    !> Assemble the elastic stiffness into `values` (pattern's layout) and, for prescribed
-    !> dofs with non-zero values, move K_fp u_p to the right-hand side: force -= K u_p.
-    subroutine assemble_stiffness(model, library, pattern, values, force)
+    !> The self-weight of the elements of group `group` (a FILL stage's load).
+    subroutine fill_forces(model, library, group, force)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
+        integer, intent(in) :: group
+        real(dp), intent(out) :: force(:, :)
+        integer :: e
+        force = 0.0_dp
+        do e = 1, model%mesh%nelem
+            if (model%mesh%group(e) == group) call add_gravity(model, library, e, 0.0_dp, &
+                                                               -1.0_dp, force)
+        end do
+    end subroutine fill_forces
+
+    !> The tangent of element e at each Gauss point from its stresses and history.
+    pure subroutine element_tangents(model, e, stress, history, dmat)
+        type(model_t), intent(in) :: model
+        integer, intent(in) :: e
+        real(dp), intent(in) :: stress(:, :), history(:, :)
+        real(dp), intent(out) :: dmat(:, :, :)
+        integer :: ig
+        do ig = 1, size(dmat, 3)
+            call material_tangent(model%materials(model%mesh%material(e)), model%pa, &
+                                  stress(:, ig), history(:, ig), dmat(:, :, ig))
+        end do
+    end subroutine element_tangents
+
+    !> Assemble the tangent stiffness of the active elements at the given Gauss-point
+    !> stresses (4, ngauss, nelem) and history (nhistory, ngauss, nelem) into `values`.
+    subroutine assemble_tangent(model, library, active, pattern, stress, history, values)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        logical, intent(in) :: active(:)
         type(sparse_pattern_t), intent(in) :: pattern
-        real(dp), intent(inout) :: values(:)
-        real(dp), intent(inout) :: force(:, :)
-        real(dp), allocatable :: ke(:, :), dmat(:, :, :), up(:), fp(:)
-        real(dp), allocatable :: u_prescribed(:, :)
-        integer :: e, nn, nc, ng, k, kind
-        logical :: any_prescribed
+        real(dp), intent(in) :: stress(:, :, :), history(:, :, :)
+        real(dp), intent(out) :: values(:)
+        real(dp) :: ke(16, 16), dmat(4, 4, 4)
+        integer :: e, nn, ng
+        values = 0.0_dp
         associate (mesh => model%mesh)
-            u_prescribed = merge(model%prescribed, 0.0_dp, model%fixed)
-            any_prescribed = any(u_prescribed /= 0.0_dp)
-            kind = 0
             do e = 1, mesh%nelem
-                if (mesh%kind(e) /= kind) then
-                    ! (Re)size work arrays only when the element kind changes.
-                    kind = mesh%kind(e)
-                    nn = library(kind)%element%nodes()
-                    nc = library(kind)%element%components()
-                    ng = library(kind)%element%gauss_points()
-                    if (allocated(ke)) deallocate (ke, dmat, up, fp)
-                    allocate (ke(2*nn, 2*nn), dmat(nc, nc, ng), up(2*nn), fp(2*nn))
-                end if
-                call elastic_tangents(model, e, dmat)
-                call library(kind)%element%stiffness(mesh%x(:, mesh%conn(1:nn, e)), dmat, ke)
-                call assemble_element(pattern, values, e, ke)
-                if (any_prescribed) then
-                    up = gather(model, e, nn, u_prescribed)
-                    if (any(up /= 0.0_dp)) then
-                        fp = matmul(ke, up)
-                        do k = 1, nn
-                            force(:, mesh%conn(k, e)) = force(:, mesh%conn(k, e)) &
-                                                        - fp(2*k - 1:2*k)
-                        end do
-                    end if
-                end if
+                if (.not. active(e)) cycle
+                associate (element => library(mesh%kind(e))%element)
+                    nn = element%nodes()
+                    ng = element%gauss_points()
+                    call element_tangents(model, e, stress(:, 1:ng, e), &
+                                          history(1:nhistory, 1:ng, e), dmat(:, :, 1:ng))
+                    call element%stiffness(mesh%x(:, mesh%conn(1:nn, e)), dmat(:, :, 1:ng), &
+                                           ke(1:2*nn, 1:2*nn))
+                    call assemble_element(pattern, values, e, ke(1:2*nn, 1:2*nn))
+                end associate
             end do
         end associate
-    end subroutine assemble_stiffness
+    end subroutine assemble_tangent
+
+    !> Internal forces (2, nnode) of the active elements at the given stresses.
+    subroutine internal_forces(model, library, active, stress, force)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        logical, intent(in) :: active(:)
+        real(dp), intent(in) :: stress(:, :, :)
+        real(dp), intent(out) :: force(:, :)
+        real(dp) :: fe(16)
+        integer :: e, nn, ng
+        force = 0.0_dp
+        associate (mesh => model%mesh)
+            do e = 1, mesh%nelem
+                if (.not. active(e)) cycle
+                associate (element => library(mesh%kind(e))%element)
+                    nn = element%nodes()
+                    ng = element%gauss_points()
+                    call element%internal_force(mesh%x(:, mesh%conn(1:nn, e)), &
+                                                stress(:, 1:ng, e), fe(1:2*nn))
+                    call scatter_add(model, e, nn, fe(1:2*nn), force)
+                end associate
+            end do
+        end associate
+    end subroutine internal_forces
 end module cfrd_assembly

@@ -17,53 +17,69 @@ module cfrd_element
     type, abstract :: element_t
     contains
         !> Number of nodes.
-        procedure(count_i), deferred, nopass :: nodes
+        procedure(count_i), deferred :: nodes
         !> Number of integration points.
-        procedure(count_i), deferred, nopass :: gauss_points
+        procedure(count_i), deferred :: gauss_points
         !> Number of stress / strain components at an integration point.
-        procedure(count_i), deferred, nopass :: components
+        procedure(count_i), deferred :: components
         !> Tangent stiffness: ke = sum over points of B^T D B dV.
-        procedure(stiffness_i), deferred, nopass :: stiffness
+        procedure(stiffness_i), deferred :: stiffness
         !> Strains (or relative displacements) at the integration points.
-        procedure(strains_i), deferred, nopass :: strains
+        procedure(strains_i), deferred :: strains
         !> Internal force: fe = sum over points of B^T sigma dV.
-        procedure(internal_force_i), deferred, nopass :: internal_force
+        procedure(internal_force_i), deferred :: internal_force
         !> Equivalent nodal force of a body force per unit volume b(2).
-        procedure(body_force_i), deferred, nopass :: body_force
+        procedure(body_force_i), deferred :: body_force
+        !> Consistent nodal forces of a normal pressure on the straight face xa -> xb.
+        procedure(face_pressure_i), deferred :: face_pressure
         !> Global coordinates of the integration points.
-        procedure(gauss_coordinates_i), deferred, nopass :: gauss_coordinates
+        procedure(gauss_coordinates_i), deferred :: gauss_coordinates
     end type element_t
 
     abstract interface
-        pure integer function count_i()
+        pure integer function count_i(self)
+            import :: element_t
+            class(element_t), intent(in) :: self
         end function count_i
 
-        pure subroutine stiffness_i(x, dmat, ke)
-            import :: dp
+        pure subroutine stiffness_i(self, x, dmat, ke)
+            import :: dp, element_t
+            class(element_t), intent(in) :: self
             real(dp), intent(in) :: x(:, :), dmat(:, :, :)
             real(dp), intent(out) :: ke(:, :)
         end subroutine stiffness_i
 
-        pure subroutine strains_i(x, u, strain)
-            import :: dp
+        pure subroutine strains_i(self, x, u, strain)
+            import :: dp, element_t
+            class(element_t), intent(in) :: self
             real(dp), intent(in) :: x(:, :), u(:)
             real(dp), intent(out) :: strain(:, :)
         end subroutine strains_i
 
-        pure subroutine internal_force_i(x, stress, fe)
-            import :: dp
+        pure subroutine internal_force_i(self, x, stress, fe)
+            import :: dp, element_t
+            class(element_t), intent(in) :: self
             real(dp), intent(in) :: x(:, :), stress(:, :)
             real(dp), intent(out) :: fe(:)
         end subroutine internal_force_i
 
-        pure subroutine body_force_i(x, b, fe)
-            import :: dp
+        pure subroutine body_force_i(self, x, b, fe)
+            import :: dp, element_t
+            class(element_t), intent(in) :: self
             real(dp), intent(in) :: x(:, :), b(2)
             real(dp), intent(out) :: fe(:)
         end subroutine body_force_i
 
-        pure subroutine gauss_coordinates_i(x, xg)
-            import :: dp
+        pure subroutine face_pressure_i(self, xa, xb, p1, p2, fa, fb)
+            import :: dp, element_t
+            class(element_t), intent(in) :: self
+            real(dp), intent(in) :: xa(2), xb(2), p1, p2
+            real(dp), intent(out) :: fa(2), fb(2)
+        end subroutine face_pressure_i
+
+        pure subroutine gauss_coordinates_i(self, x, xg)
+            import :: dp, element_t
+            class(element_t), intent(in) :: self
             real(dp), intent(in) :: x(:, :)
             real(dp), intent(out) :: xg(:, :)
         end subroutine gauss_coordinates_i

@@ -3,7 +3,7 @@ module cfrd_element_library
     use cfrd_error, only: error_t, fatal_error
     use cfrd_element, only: element_t
     use cfrd_quad4, only: quad4_t
-    use cfrd_model, only: elem_quad4
+    use cfrd_model, only: elem_quad4, axisymmetric
     implicit none
     private
 
@@ -11,15 +11,16 @@ module cfrd_element_library
 
 contains
 
-    !> Allocate the element implementation of kind `kind` (cfrd_model: elem_quad4, ...).
-    subroutine make_element(kind, element, error)
-        integer, intent(in) :: kind
+    !> Allocate the element implementation of kind `kind` (cfrd_model: elem_quad4, ...) for
+    !> the analysis type (plane strain or axisymmetric).
+    subroutine make_element(kind, analysis, element, error)
+        integer, intent(in) :: kind, analysis
         class(element_t), allocatable, intent(out) :: element
         type(error_t), allocatable, intent(out) :: error
         character(len=12) :: text
         select case (kind)
         case (elem_quad4)
-            allocate (quad4_t :: element)
+            allocate (element, source=quad4_t(axisymmetric=analysis == axisymmetric))
         case default
             write (text, '(i0)') kind
             call fatal_error(error, 'internal: no element implementation for kind '//trim(text))

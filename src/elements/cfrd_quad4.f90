@@ -1,10 +1,13 @@
-!> The 4-node isoparametric plane-strain quadrilateral with 2x2 Gauss integration
-!> (docs/theory.md, section "The 4-node quadrilateral"). A 3-node triangle is the same element
+!> The 4-node isoparametric quadrilateral with 2x2 Gauss integration, plane strain or
+!> axisymmetric (docs/theory.md, sections 3 and 10). A 3-node triangle is the same element
 !> with nodes 3 and 4 at one place: the Gauss points stay inside, where det J > 0.
+!> Axisymmetric: x is the radius r, y the axis z; the zz component is the hoop strain u_r / r
+!> and every integral is per radian (dV = r dA).
 module cfrd_quad4
     use cfrd_kinds, only: dp
     use cfrd_element, only: element_t
     use cfrd_shape, only: gauss_2x2, shape_fun, shape_der
+    use cfrd_edge_load, only: face_pressure_forces
     implicit none
     private
 
@@ -13,37 +16,44 @@ module cfrd_quad4
     integer, parameter :: nnode = 4, ngauss = 4, ncomp = 4, ndof = 8
 
     type, extends(element_t) :: quad4_t
+        logical :: axisymmetric = .false.
     contains
-        procedure, nopass :: nodes
-        procedure, nopass :: gauss_points
-        procedure, nopass :: components
-        procedure, nopass :: stiffness
-        procedure, nopass :: strains
-        procedure, nopass :: internal_force
-        procedure, nopass :: body_force
-        procedure, nopass :: gauss_coordinates
+        procedure :: nodes
+        procedure :: gauss_points
+        procedure :: components
+        procedure :: stiffness
+        procedure :: strains
+        procedure :: internal_force
+        procedure :: body_force
+        procedure :: face_pressure
+        procedure :: gauss_coordinates
     end type quad4_t
 
 contains
 
-    pure integer function nodes()
-        nodes = nnode
+    pure integer function nodes(self)
+        class(quad4_t), intent(in) :: self
+        nodes = nnode + 0*merge(1, 0, self%axisymmetric)
     end function nodes
 
-    pure integer function gauss_points()
-        gauss_points = ngauss
+    pure integer function gauss_points(self)
+        class(quad4_t), intent(in) :: self
+        gauss_points = ngauss + 0*merge(1, 0, self%axisymmetric)
     end function gauss_points
 
-    pure integer function components()
-        components = ncomp
+    pure integer function components(self)
+        class(quad4_t), intent(in) :: self
+        components = ncomp + 0*merge(1, 0, self%axisymmetric)
     end function components
 
-    !> Strain-displacement matrix `bee` (4 x 8, rows xx, yy, zz, xy; the zz row is zero in
-    !> plane strain) and the Jacobian determinant at (xi, eta).
-    pure subroutine quad4_bmatrix(x, xi, eta, bee, det)
+    !> Strain-displacement matrix `bee` (4 x 8, rows xx, yy, zz, xy) and the volume weight
+    !> dv = det J (plane strain, unit thickness) or r det J (axisymmetric, per radian) at
+    !> (xi, eta). In plane strain the zz row is zero; axisymmetric it is N_i / r (hoop strain).
+    pure subroutine quad4_bmatrix(x, xi, eta, axisymmetric, bee, dv)
         real(dp), intent(in) :: x(:, :), xi, eta
-        real(dp), intent(out) :: bee(ncomp, ndof), det
-        real(dp) :: der(2, nnode), jac(2, 2), jinv(2, 2), deriv(2, nnode)
+        logical, intent(in) :: axisymmetric
+        real(dp), intent(out) :: bee(ncomp, ndof), dv
+        real(dp) :: der(2, nnode), jac(2, 2), jinv(2, 2), deriv(2, nnode), det, fun(nnode), r
         integer :: k
         der = shape_der(xi, eta)
         jac = matmul(der, transpose(x(:, 1:nnode)))   ! jac(i,j) = d x_j / d xi_i
@@ -60,64 +70,104 @@ contains
             bee(4, 2*k - 1) = deriv(2, k)
             bee(4, 2*k) = deriv(1, k)
         end do
+        dv = det
+        if (axisymmetric) then
+            fun = shape_fun(xi, eta)
+            r = dot_product(fun, x(1, 1:nnode))
+            bee(3, 1:ndof:2) = fun/r
+            dv = det*r
+        end if
     end subroutine quad4_bmatrix
 
-    pure subroutine stiffness(x, dmat, ke)
+    pure subroutine stiffness(self, x, dmat, ke)
+        class(quad4_t), intent(in) :: self
         real(dp), intent(in) :: x(:, :), dmat(:, :, :)
         real(dp), intent(out) :: ke(:, :)
-        real(dp) :: points(2, ngauss), weights(ngauss), bee(ncomp, ndof), det, db(ncomp, ndof)
+        real(dp) :: points(2, ngauss), weights(ngauss), bee(ncomp, ndof), dv, db(ncomp, ndof)
         integer :: ig
         call gauss_2x2(points, weights)
         ke(1:ndof, 1:ndof) = 0.0_dp
         do ig = 1, ngauss
-            call quad4_bmatrix(x, points(1, ig), points(2, ig), bee, det)
-            db = matmul(dmat(:, :, ig), bee)*(det*weights(ig))
+            call quad4_bmatrix(x, points(1, ig), points(2, ig), self%axisymmetric, bee, dv)
+            db = matmul(dmat(:, :, ig), bee)*(dv*weights(ig))
             ke(1:ndof, 1:ndof) = ke(1:ndof, 1:ndof) + matmul(transpose(bee), db)
         end do
     end subroutine stiffness
 
-    pure subroutine strains(x, u, strain)
+    pure subroutine strains(self, x, u, strain)
+        class(quad4_t), intent(in) :: self
         real(dp), intent(in) :: x(:, :), u(:)
         real(dp), intent(out) :: strain(:, :)
-        real(dp) :: points(2, ngauss), weights(ngauss), bee(ncomp, ndof), det
+        real(dp) :: points(2, ngauss), weights(ngauss), bee(ncomp, ndof), dv
         integer :: ig
         call gauss_2x2(points, weights)
         do ig = 1, ngauss
-            call quad4_bmatrix(x, points(1, ig), points(2, ig), bee, det)
+            call quad4_bmatrix(x, points(1, ig), points(2, ig), self%axisymmetric, bee, dv)
             strain(:, ig) = matmul(bee, u(1:ndof))
         end do
     end subroutine strains
 
-    pure subroutine internal_force(x, stress, fe)
+    pure subroutine internal_force(self, x, stress, fe)
+        class(quad4_t), intent(in) :: self
         real(dp), intent(in) :: x(:, :), stress(:, :)
         real(dp), intent(out) :: fe(:)
-        real(dp) :: points(2, ngauss), weights(ngauss), bee(ncomp, ndof), det
+        real(dp) :: points(2, ngauss), weights(ngauss), bee(ncomp, ndof), dv
         integer :: ig
         call gauss_2x2(points, weights)
         fe(1:ndof) = 0.0_dp
         do ig = 1, ngauss
-            call quad4_bmatrix(x, points(1, ig), points(2, ig), bee, det)
-            fe(1:ndof) = fe(1:ndof) + matmul(transpose(bee), stress(:, ig))*(det*weights(ig))
+            call quad4_bmatrix(x, points(1, ig), points(2, ig), self%axisymmetric, bee, dv)
+            fe(1:ndof) = fe(1:ndof) + matmul(transpose(bee), stress(:, ig))*(dv*weights(ig))
         end do
     end subroutine internal_force
 
-    pure subroutine body_force(x, b, fe)
+    pure subroutine body_force(self, x, b, fe)
+        class(quad4_t), intent(in) :: self
         real(dp), intent(in) :: x(:, :), b(2)
         real(dp), intent(out) :: fe(:)
-        real(dp) :: points(2, ngauss), weights(ngauss), bee(ncomp, ndof), det, fun(nnode)
+        real(dp) :: points(2, ngauss), weights(ngauss), bee(ncomp, ndof), dv, fun(nnode)
         integer :: ig, k
         call gauss_2x2(points, weights)
         fe(1:ndof) = 0.0_dp
         do ig = 1, ngauss
-            call quad4_bmatrix(x, points(1, ig), points(2, ig), bee, det)
+            call quad4_bmatrix(x, points(1, ig), points(2, ig), self%axisymmetric, bee, dv)
             fun = shape_fun(points(1, ig), points(2, ig))
             do k = 1, nnode
-                fe(2*k - 1:2*k) = fe(2*k - 1:2*k) + fun(k)*b*(det*weights(ig))
+                fe(2*k - 1:2*k) = fe(2*k - 1:2*k) + fun(k)*b*(dv*weights(ig))
             end do
         end do
     end subroutine body_force
 
-    pure subroutine gauss_coordinates(x, xg)
+    !> Plane strain: the closed form of cfrd_edge_load. Axisymmetric: the traction p n r is
+    !> cubic along the face (p and r linear), so 2-point Gauss on the face is exact.
+    pure subroutine face_pressure(self, xa, xb, p1, p2, fa, fb)
+        class(quad4_t), intent(in) :: self
+        real(dp), intent(in) :: xa(2), xb(2), p1, p2
+        real(dp), intent(out) :: fa(2), fb(2)
+        real(dp), parameter :: g = 0.57735026918962576451_dp
+        real(dp) :: n_times_length(2), s, na, nb, p, r
+        integer :: k
+        if (.not. self%axisymmetric) then
+            call face_pressure_forces(xa, xb, p1, p2, fa, fb)
+            return
+        end if
+        n_times_length = [-(xb(2) - xa(2)), xb(1) - xa(1)]
+        fa = 0.0_dp
+        fb = 0.0_dp
+        do k = 1, 2
+            s = 0.5_dp*(1.0_dp + merge(-g, g, k == 1))   ! position along the face, 0..1
+            na = 1.0_dp - s
+            nb = s
+            p = na*p1 + nb*p2
+            r = na*xa(1) + nb*xb(1)
+            ! Weight 1/2 per point maps the length-1 interval; n_times_length carries L.
+            fa = fa + 0.5_dp*na*p*r*n_times_length
+            fb = fb + 0.5_dp*nb*p*r*n_times_length
+        end do
+    end subroutine face_pressure
+
+    pure subroutine gauss_coordinates(self, x, xg)
+        class(quad4_t), intent(in) :: self
         real(dp), intent(in) :: x(:, :)
         real(dp), intent(out) :: xg(:, :)
         real(dp) :: points(2, ngauss), weights(ngauss)
@@ -126,5 +176,6 @@ contains
         do ig = 1, ngauss
             xg(:, ig) = matmul(x(:, 1:nnode), shape_fun(points(1, ig), points(2, ig)))
         end do
+        if (self%axisymmetric) return
     end subroutine gauss_coordinates
 end module cfrd_quad4

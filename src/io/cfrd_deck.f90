@@ -5,8 +5,11 @@
 module cfrd_deck
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, input_error
-    use cfrd_model, only: model_t, material_t, gravity_load_t, pressure_load_t, &
-                          plane_strain, axisymmetric, law_elastic, elem_quad4, all_groups
+    use cfrd_model, only: model_t, material_t, gravity_load_t, pressure_load_t, load_set_t, &
+                          stage_t, stage_fill, stage_load, stage_reset, newtop_zero, &
+                          newtop_count, solver_midpoint, solver_newton, &
+                          plane_strain, axisymmetric, law_elastic, law_duncan_eb, elem_quad4, &
+                          all_groups
     use cfrd_model_check, only: element_shape, first_unused_node, free_rigid_mode, &
                                 shape_ok, shape_degenerate
     use cfrd_cards, only: card_t, field_t, deck_lines_t, int_field, real_field, text_field, &
@@ -18,30 +21,39 @@ module cfrd_deck
     public :: read_deck, group_keywords
 
     integer, parameter :: g_title = 1, g_control = 2, g_nodes = 3, g_elements = 4, &
-                          g_materials = 5, g_boundary = 6, g_loads = 7, ngroups = 7
+                          g_materials = 5, g_boundary = 6, g_loads = 7, g_stages = 8, &
+                          ngroups = 8
     character(len=10), parameter :: group_keywords(ngroups) = [character(len=10) :: &
                                     'TITLE', 'CONTROL', 'NODES', 'ELEMENTS', 'MATERIALS', &
-                                    'BOUNDARY', 'LOADS']
+                                    'BOUNDARY', 'LOADS', 'STAGES']
     character(len=*), parameter :: valid_groups = 'TITLE, CONTROL, NODES, ELEMENTS, '// &
-                                   'MATERIALS, BOUNDARY, LOADS, END'
+                                   'MATERIALS, BOUNDARY, LOADS, STAGES, END'
     logical, parameter :: group_required(ngroups) = [.false., .false., .true., .true., &
-                                                     .true., .true., .false.]
+                                                     .true., .true., .false., .false.]
     character(len=10), parameter :: load_keywords(3) = [character(len=10) :: 'GRAVITY', &
                                                         'FORCE', 'PRESSURE']
+    character(len=10), parameter :: stage_keywords(3) = [character(len=10) :: 'FILL', &
+                                                         'LOAD', 'RESET']
+    !> At most this many named LOADS groups (load sets).
+    integer, parameter :: max_load_sets = 1000
 
     !> Largest node or element number accepted when the CONTROL card gives no count
     !> (guards against a mistyped number allocating gigabytes).
     integer, parameter :: max_number = 10000000
 
     ! Card layouts (docs/cards.md): name, first column, width, kind.
-    type(field_t), parameter :: control_fields(7) = [ &
+    type(field_t), parameter :: control_fields(11) = [ &
                                 field_t('NNODE', 1, 5, int_field), &
                                 field_t('NELEM', 6, 5, int_field), &
                                 field_t('NMAT', 11, 5, int_field), &
                                 field_t('MODEL', 16, 5, int_field), &
                                 field_t('PA', 21, 10, real_field), &
                                 field_t('GAMMAW', 31, 10, real_field), &
-                                field_t('UNITS', 41, 10, text_field)]
+                                field_t('UNITS', 41, 10, text_field), &
+                                field_t('NEWTOP', 51, 5, int_field), &
+                                field_t('SOLVER', 56, 5, int_field), &
+                                field_t('TOL', 61, 10, real_field), &
+                                field_t('MAXIT', 71, 5, int_field)]
     type(field_t), parameter :: node_fields(7) = [ &
                                 field_t('N1', 1, 5, int_field), &
                                 field_t('N2', 6, 5, int_field), &
@@ -68,6 +80,26 @@ module cfrd_deck
                                 field_t('E', 1, 10, real_field), &
                                 field_t('NU', 11, 10, real_field), &
                                 field_t('GAMMA', 21, 10, real_field)]
+    type(field_t), parameter :: eb_fields(7) = [ &
+                                field_t('GAMMA', 1, 10, real_field), &
+                                field_t('K', 11, 10, real_field), &
+                                field_t('N', 21, 10, real_field), &
+                                field_t('RF', 31, 10, real_field), &
+                                field_t('KB', 41, 10, real_field), &
+                                field_t('M', 51, 10, real_field), &
+                                field_t('KUR', 61, 10, real_field)]
+    type(field_t), parameter :: eb_strength_fields(4) = [ &
+                                field_t('PHI0', 1, 10, real_field), &
+                                field_t('DPHI', 11, 10, real_field), &
+                                field_t('C', 21, 10, real_field), &
+                                field_t('SIG3MIN', 31, 10, real_field)]
+    type(field_t), parameter :: stage_fields(6) = [ &
+                                field_t('KEYWORD', 1, 10, text_field), &
+                                field_t('GROUP', 11, 10, text_field), &
+                                field_t('NINC', 21, 5, int_field), &
+                                field_t('DATE', 26, 10, text_field), &
+                                field_t('LABEL', 36, 45, text_field), &
+                                field_t('SET', 11, 10, text_field)]
     type(field_t), parameter :: boundary_fields(7) = [ &
                                 field_t('N1', 1, 5, int_field), &
                                 field_t('N2', 6, 5, int_field), &
@@ -97,6 +129,7 @@ module cfrd_deck
 
     !> The cards of one group, in deck order.
     type :: group_cards_t
+        character(len=10) :: name = ''     !! LOADS groups: the load set's name
         logical :: present = .false.
         integer :: header_line = 0
         integer :: n = 0
@@ -118,8 +151,10 @@ contains
         type(error_t), allocatable, intent(out) :: error
         type(deck_lines_t) :: lines
         type(group_cards_t) :: groups(ngroups)
+        type(group_cards_t), allocatable :: load_groups(:)
         type(counts_t) :: counts
         integer, allocatable :: node_line(:), element_line(:)
+        integer :: i
 
         call read_deck_lines(path, lines, error)
         if (allocated(error)) return
@@ -127,7 +162,7 @@ contains
         model%deck_text = lines%text
         model%title = ''
         model%units = 'KN-M'
-        call sort_into_groups(lines, groups, model%title, error)
+        call sort_into_groups(lines, groups, load_groups, model%title, error)
         if (allocated(error)) return
         call read_control(path, groups(g_control), model, counts, error)
         if (allocated(error)) return
@@ -139,23 +174,33 @@ contains
         if (allocated(error)) return
         call read_boundary(path, groups(g_boundary), model, error)
         if (allocated(error)) return
-        call read_loads(path, groups(g_loads), model, error)
+        allocate (model%load_sets(size(load_groups)))
+        do i = 1, size(load_groups)
+            call read_loads(path, load_groups(i), model, model%load_sets(i), error)
+            if (allocated(error)) return
+        end do
+        call read_stages(path, groups(g_stages), model, error)
         if (allocated(error)) return
         call check_model(path, groups, model, node_line, element_line, error)
     end subroutine read_deck
 
     !> Split the deck into groups at header cards; stop at END or STOP.
-    subroutine sort_into_groups(lines, groups, title, error)
+    subroutine sort_into_groups(lines, groups, load_groups, title, error)
         type(deck_lines_t), intent(in) :: lines
         type(group_cards_t), intent(inout) :: groups(:)
+        type(group_cards_t), allocatable, intent(out) :: load_groups(:)
         character(len=:), allocatable, intent(inout) :: title
         type(error_t), allocatable, intent(out) :: error
         type(card_t) :: card
-        character(len=:), allocatable :: text, word
-        integer :: line, current, g
+        character(len=:), allocatable :: text, word, name
+        integer :: line, current, g, nsets, k
         logical :: ended
         current = 0
         ended = .false.
+        ! Load set 1 is the unnamed default set, present even when the deck has no LOADS.
+        allocate (load_groups(max_load_sets))
+        nsets = 1
+        load_groups(1)%present = .true.
         do line = 1, size(lines%first)
             text = lines%text(lines%first(line):lines%last(line))
             if (is_comment(text)) cycle
@@ -168,6 +213,43 @@ contains
                     exit
                 end if
                 g = position(group_keywords, word)
+                if (g == g_loads .and. .not. card%free) then
+                    ! LOADS groups are load sets, told apart by the name in columns 11-20.
+                    name = ''
+                    if (len(text) > 10) name = upper(trim(adjustl(text(11:min(20, len(text))))))
+                    k = 0
+                    if (len(name) == 0) then
+                        k = 1
+                    else
+                        do k = 2, nsets
+                            if (load_groups(k)%name == name) exit
+                        end do
+                        if (k > nsets) k = 0
+                    end if
+                    if (k > 0) then
+                        if (load_groups(k)%header_line > 0) then
+                            call card_error(error, lines%file, card, 'duplicate group LOADS '// &
+                                            name//' (first at line '// &
+                                            to_text(load_groups(k)%header_line)// &
+                                            '): each load set may appear once')
+                            return
+                        end if
+                    else
+                        if (nsets == max_load_sets) then
+                            call card_error(error, lines%file, card, 'more than '// &
+                                            to_text(max_load_sets)//' load sets')
+                            return
+                        end if
+                        nsets = nsets + 1
+                        k = nsets
+                        load_groups(k)%name = name
+                        load_groups(k)%present = .true.
+                    end if
+                    load_groups(k)%header_line = line
+                    groups(g_loads)%present = .true.
+                    current = -k
+                    cycle
+                end if
                 if (g > 0 .and. .not. card%free) then
                     if (groups(g)%present) then
                         call card_error(error, lines%file, card, 'duplicate group '//word// &
@@ -181,10 +263,14 @@ contains
                     if (g == g_title .and. len(text) > 10) title = trim(adjustl(text(11:)))
                     cycle
                 end if
-                if (.not. (current == g_loads .and. any(load_keywords == word))) then
-                    if (current == g_loads) then
+                if (.not. ((current < 0 .and. any(load_keywords == word)) .or. &
+                           (current == g_stages .and. any(stage_keywords == word)))) then
+                    if (current < 0) then
                         call card_error(error, lines%file, card, "unknown load '"//word// &
                                         "' in LOADS: expected GRAVITY, FORCE or PRESSURE")
+                    else if (current == g_stages) then
+                        call card_error(error, lines%file, card, "unknown stage '"//word// &
+                                        "' in STAGES: expected FILL, LOAD or RESET")
                     else
                         call card_error(error, lines%file, card, "unknown group '"//word// &
                                         "': expected one of "//valid_groups)
@@ -202,8 +288,13 @@ contains
                                 'the title is columns 11-80 of the TITLE card')
                 return
             end if
-            call append_card(groups(current), card)
+            if (current < 0) then
+                call append_card(load_groups(-current), card)
+            else
+                call append_card(groups(current), card)
+            end if
         end do
+        load_groups = load_groups(1:nsets)
         if (.not. ended) then
             call fatal_error(error, lines%file//': no END card: is the deck truncated? '// &
                              '(a deck ends with END or STOP)', input_error)
@@ -288,14 +379,10 @@ contains
             call get_int(file, card, control_fields, 4, ctx, plane_strain, model%analysis, &
                          error)
             if (allocated(error)) return
-            if (model%analysis == axisymmetric) then
+            if (model%analysis /= plane_strain .and. model%analysis /= axisymmetric) then
                 call field_error(error, file, card, control_fields, 4, ctx, &
-                                 '1 (plane strain): axisymmetric analysis is not supported '// &
-                                 'yet', '2')
-                return
-            else if (model%analysis /= plane_strain) then
-                call field_error(error, file, card, control_fields, 4, ctx, &
-                                 '1 (plane strain)', to_text(model%analysis))
+                                 '1 (plane strain) or 2 (axisymmetric)', &
+                                 to_text(model%analysis))
                 return
             end if
             call get_positive(file, card, control_fields, 5, ctx, 101.325_dp, model%pa, error)
@@ -306,6 +393,32 @@ contains
             if (len(units) > 0 .and. upper(units) /= 'KN-M') then
                 call field_error(error, file, card, control_fields, 7, ctx, &
                                  'KN-M (m, kN, kPa) or blank', units)
+                return
+            end if
+            call get_int(file, card, control_fields, 8, ctx, newtop_zero, model%newtop, error)
+            if (allocated(error)) return
+            if (model%newtop /= newtop_zero .and. model%newtop /= newtop_count) then
+                call field_error(error, file, card, control_fields, 8, ctx, &
+                                 '0 (zero a new layer''s displacements when it is complete) '// &
+                                 'or 1 (count them)', to_text(model%newtop))
+                return
+            end if
+            call get_int(file, card, control_fields, 9, ctx, solver_midpoint, model%solver, error)
+            if (allocated(error)) return
+            if (model%solver < solver_midpoint .or. model%solver > solver_newton) then
+                call field_error(error, file, card, control_fields, 9, ctx, &
+                                 '1 (midpoint), 2 (forward Euler) or 3 (Newton)', &
+                                 to_text(model%solver))
+                return
+            end if
+            call get_positive(file, card, control_fields, 10, ctx, 1.0e-6_dp, model%tolerance, &
+                              error)
+            if (allocated(error)) return
+            call get_int(file, card, control_fields, 11, ctx, 20, model%max_iterations, error)
+            if (allocated(error)) return
+            if (model%max_iterations < 1) then
+                call field_error(error, file, card, control_fields, 11, ctx, &
+                                 'a number of iterations >= 1', to_text(model%max_iterations))
                 return
             end if
         end associate
@@ -339,18 +452,24 @@ contains
                 end if
                 call get_text(card, material_fields, 2, law)
                 law = upper(law)
-                if (law /= 'ELASTIC') then
+                if (law /= 'ELASTIC' .and. law /= 'EB') then
                     call field_error(error, file, card, material_fields, 2, ctx, &
-                                     'a material law: ELASTIC', law)
+                                     'a material law: ELASTIC or EB', law)
                     return
                 end if
                 call get_text(card, material_fields, 3, label)
                 n = n + 1
                 number(n) = m
                 first_card(n) = i
-                mats(n)%law = law_elastic
+                mats(n)%law = merge(law_elastic, law_duncan_eb, law == 'ELASTIC')
                 mats(n)%label = label
             end associate
+            if (mats(n)%law == law_duncan_eb) then
+                call read_eb_cards(file, group, i, m, model%pa, mats(n), error)
+                if (allocated(error)) return
+                i = i + 3
+                cycle
+            end if
             if (i == group%n) then
                 call card_error(error, file, group%cards(i), 'MATERIALS '//to_text(m)// &
                                 ': missing parameter card (E, NU, GAMMA) after this card')
@@ -408,6 +527,89 @@ contains
         call check_numbering(file, group%header_line, 'material', defined, counts%nmat, &
                              'NMAT', counts%line, error)
     end subroutine read_materials
+
+    !> The two parameter cards of an E-B material after its card 1 at group%cards(i).
+    subroutine read_eb_cards(file, group, i, m, pa, mat, error)
+        character(len=*), intent(in) :: file
+        type(group_cards_t), intent(in) :: group
+        integer, intent(in) :: i, m
+        real(dp), intent(in) :: pa
+        type(material_t), intent(inout) :: mat
+        type(error_t), allocatable, intent(out) :: error
+        character(len=:), allocatable :: ctx
+        logical :: given
+        integer :: k
+        ctx = 'MATERIALS '//to_text(m)
+        do k = 1, 2
+            if (i + k > group%n) then
+                call card_error(error, file, group%cards(i + k - 1), ctx//': missing '// &
+                                'parameter card '//to_text(k + 1)//' of law EB after this card')
+                return
+            end if
+            if (is_material_card(group%cards(i + k))) then
+                call card_error(error, file, group%cards(i + k), ctx//': missing '// &
+                                'parameter card '//to_text(k + 1)//' of law EB before this card')
+                return
+            end if
+        end do
+        associate (card => group%cards(i + 1))
+            call get_bounded(card, eb_fields, 1, .false., 0.0_dp, 0.0_dp, huge(1.0_dp), &
+                             'a real >= 0 (kN/m3)', mat%unit_weight)
+            if (allocated(error)) return
+            call get_bounded(card, eb_fields, 2, .true., 0.0_dp, tiny(1.0_dp), huge(1.0_dp), &
+                             'a real > 0', mat%k_modulus)
+            if (allocated(error)) return
+            call get_bounded(card, eb_fields, 3, .true., 0.0_dp, 0.0_dp, 0.999_dp, &
+                             'a real with 0 <= N < 1', mat%n_exponent)
+            if (allocated(error)) return
+            call get_bounded(card, eb_fields, 4, .true., 0.0_dp, tiny(1.0_dp), 1.0_dp, &
+                             'a real with 0 < RF <= 1', mat%failure_ratio)
+            if (allocated(error)) return
+            call get_bounded(card, eb_fields, 5, .true., 0.0_dp, tiny(1.0_dp), huge(1.0_dp), &
+                             'a real > 0', mat%k_bulk)
+            if (allocated(error)) return
+            call get_bounded(card, eb_fields, 6, .true., 0.0_dp, -0.999_dp, 0.999_dp, &
+                             'a real with -1 < M < 1', mat%m_exponent)
+            if (allocated(error)) return
+            ! Kur blank: 2 K, a common rockfill value (reference file, [choice]).
+            call get_bounded(card, eb_fields, 7, .false., 2.0_dp*mat%k_modulus, tiny(1.0_dp), &
+                             huge(1.0_dp), 'a real > 0 (blank = 2 K)', mat%k_unload)
+            if (allocated(error)) return
+        end associate
+        associate (card => group%cards(i + 2))
+            call get_bounded(card, eb_strength_fields, 1, .true., 0.0_dp, tiny(1.0_dp), &
+                             89.0_dp, 'an angle in degrees, 0 < PHI0 < 90', mat%phi0)
+            if (allocated(error)) return
+            call get_bounded(card, eb_strength_fields, 2, .false., 0.0_dp, 0.0_dp, 89.0_dp, &
+                             'an angle in degrees >= 0', mat%dphi)
+            if (allocated(error)) return
+            call get_bounded(card, eb_strength_fields, 3, .false., 0.0_dp, 0.0_dp, &
+                             huge(1.0_dp), 'a real >= 0 (kPa)', mat%cohesion)
+            if (allocated(error)) return
+            ! Floor on sigma3 for the moduli, blank: 0.1 pa (docs/theory.md section 8).
+            call get_bounded(card, eb_strength_fields, 4, .false., 0.1_dp*pa, tiny(1.0_dp), &
+                             huge(1.0_dp), 'a real > 0 (kPa, blank = 0.1 PA)', mat%sigma3_floor)
+        end associate
+    contains
+        !> Real field k of `card`: required or `default` when blank; must lie in [lo, hi].
+        subroutine get_bounded(card, fields, k, required, default, lo, hi, expected, value)
+            type(card_t), intent(in) :: card
+            type(field_t), intent(in) :: fields(:)
+            integer, intent(in) :: k
+            logical, intent(in) :: required
+            real(dp), intent(in) :: default, lo, hi
+            character(len=*), intent(in) :: expected
+            real(dp), intent(out) :: value
+            call get_real(file, card, fields, k, ctx, default, value, error, given)
+            if (allocated(error)) return
+            if (required .and. .not. given) then
+                call field_error(error, file, card, fields, k, ctx, expected, '')
+            else if (.not. (value >= lo .and. value <= hi)) then
+                call field_error(error, file, card, fields, k, ctx, expected, &
+                                 raw_text(card, fields, k))
+            end if
+        end subroutine get_bounded
+    end subroutine read_eb_cards
 
     !> A material's first card: its LAW field holds a word.
     logical function is_material_card(card)
@@ -695,18 +897,20 @@ contains
         end do
     end subroutine read_boundary
 
-    subroutine read_loads(file, group, model, error)
+    subroutine read_loads(file, group, model, set, error)
         character(len=*), intent(in) :: file
         type(group_cards_t), intent(in) :: group
-        type(model_t), intent(inout) :: model
+        type(model_t), intent(in) :: model
+        type(load_set_t), intent(out) :: set
         type(error_t), allocatable, intent(out) :: error
         character(len=:), allocatable :: keyword, name
         type(gravity_load_t) :: gravity
         type(pressure_load_t) :: pressure
         integer :: i, n1, n2, inc, ngravity, npressure
         real(dp) :: force(2)
-        allocate (model%nodal_force(2, model%mesh%nnode), source=0.0_dp)
-        allocate (model%gravity(group%n), model%pressures(group%n))
+        set%name = group%name
+        allocate (set%nodal_force(2, model%mesh%nnode), source=0.0_dp)
+        allocate (set%gravity(group%n), set%pressures(group%n))
         ngravity = 0
         npressure = 0
         do i = 1, group%n
@@ -734,7 +938,7 @@ contains
                                   gravity%ay, error)
                     if (allocated(error)) return
                     ngravity = ngravity + 1
-                    model%gravity(ngravity) = gravity
+                    set%gravity(ngravity) = gravity
                 case ('FORCE')
                     call get_range(file, card, force_fields, 'FORCE', 'node', &
                                    model%mesh%nnode, n1, n2, inc, error, offset=1)
@@ -743,13 +947,13 @@ contains
                     if (allocated(error)) return
                     call get_real(file, card, force_fields, 6, 'FORCE', 0.0_dp, force(2), error)
                     if (allocated(error)) return
-                    model%nodal_force(1, n1:n2:inc) = model%nodal_force(1, n1:n2:inc) + force(1)
-                    model%nodal_force(2, n1:n2:inc) = model%nodal_force(2, n1:n2:inc) + force(2)
+                    set%nodal_force(1, n1:n2:inc) = set%nodal_force(1, n1:n2:inc) + force(1)
+                    set%nodal_force(2, n1:n2:inc) = set%nodal_force(2, n1:n2:inc) + force(2)
                 case ('PRESSURE')
                     call read_pressure(file, card, model, pressure, error)
                     if (allocated(error)) return
                     npressure = npressure + 1
-                    model%pressures(npressure) = pressure
+                    set%pressures(npressure) = pressure
                 case default
                     call card_error(error, file, card, "unknown load '"//keyword// &
                                     "' in LOADS: expected GRAVITY, FORCE or PRESSURE")
@@ -757,9 +961,92 @@ contains
                 end select
             end associate
         end do
-        model%gravity = model%gravity(1:ngravity)
-        model%pressures = model%pressures(1:npressure)
+        set%gravity = set%gravity(1:ngravity)
+        set%pressures = set%pressures(1:npressure)
     end subroutine read_loads
+
+    !> The STAGES group; without one, a single LOAD stage of the default load set.
+    subroutine read_stages(file, group, model, error)
+        character(len=*), intent(in) :: file
+        type(group_cards_t), intent(in) :: group
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        character(len=:), allocatable :: keyword, name, date, label, ctx
+        integer :: i, k, g
+        logical, allocatable :: filled(:)
+        if (.not. group%present) then
+            allocate (model%stages(1))
+            model%stages(1)%label = 'LOADS'
+            return
+        end if
+        if (group%n == 0) then
+            call fatal_error(error, file//':'//to_text(group%header_line)//': STAGES has '// &
+                             'no stage cards', input_error)
+            return
+        end if
+        allocate (model%stages(group%n), filled(size(model%mesh%group_name)))
+        filled = .false.
+        do i = 1, group%n
+            associate (card => group%cards(i), stage => model%stages(i))
+                stage%line = card%line
+                call get_text(card, stage_fields, 1, keyword)
+                keyword = upper(keyword)
+                ctx = 'STAGES '//keyword
+                call get_text(card, stage_fields, 4, date)
+                call get_text(card, stage_fields, 5, label)
+                stage%label = keyword
+                if (len(date) > 0) stage%label = stage%label//' '//date
+                if (len(label) > 0) stage%label = stage%label//' '//label
+                select case (keyword)
+                case ('FILL')
+                    stage%kind = stage_fill
+                    call get_text(card, stage_fields, 2, name)
+                    g = position(model%mesh%group_name, upper(name))
+                    if (g == 0) then
+                        call field_error(error, file, card, stage_fields, 2, ctx, &
+                                         'an element group ('// &
+                                         group_list(model%mesh%group_name)//')', name)
+                        return
+                    end if
+                    if (filled(g)) then
+                        call field_error(error, file, card, stage_fields, 2, ctx, &
+                                         'a group not filled before', name)
+                        return
+                    end if
+                    filled(g) = .true.
+                    stage%group = g
+                case ('LOAD')
+                    stage%kind = stage_load
+                    call get_text(card, stage_fields, 6, name)
+                    name = upper(name)
+                    stage%load_set = 0
+                    do k = 1, size(model%load_sets)
+                        if (model%load_sets(k)%name == name) stage%load_set = k
+                    end do
+                    if (stage%load_set == 0) then
+                        call field_error(error, file, card, stage_fields, 6, ctx, &
+                                         'blank (the unnamed LOADS) or the name of a '// &
+                                         'LOADS group', name)
+                        return
+                    end if
+                case ('RESET')
+                    stage%kind = stage_reset
+                case default
+                    call card_error(error, file, card, "unknown stage '"//keyword// &
+                                    "' in STAGES: expected FILL, LOAD or RESET")
+                    return
+                end select
+                call get_int(file, card, stage_fields, 3, ctx, 1, stage%increments, error)
+                if (allocated(error)) return
+                if (stage%increments < 1 .or. stage%increments > 100000) then
+                    call field_error(error, file, card, stage_fields, 3, ctx, &
+                                     'a number of increments from 1 to 100000', &
+                                     raw_text(card, stage_fields, 3))
+                    return
+                end if
+            end associate
+        end do
+    end subroutine read_stages
 
     subroutine read_pressure(file, card, model, pressure, error)
         character(len=*), intent(in) :: file

@@ -7,8 +7,10 @@ module cfrd_model
     implicit none
     private
 
-    public :: model_t, mesh_t, material_t, gravity_load_t, pressure_load_t
-    public :: plane_strain, axisymmetric, law_elastic, elem_quad4, all_groups
+    public :: model_t, mesh_t, material_t, gravity_load_t, pressure_load_t, load_set_t
+    public :: stage_t, stage_fill, stage_load, stage_reset, stage_kind_name
+    public :: plane_strain, axisymmetric, law_elastic, law_duncan_eb, elem_quad4, all_groups
+    public :: newtop_count, newtop_zero, solver_midpoint, solver_euler, solver_newton
     public :: law_name
 
     !> Analysis types (CONTROL card, field MODEL).
@@ -17,6 +19,22 @@ module cfrd_model
 
     !> Material laws (MATERIALS card, field LAW).
     integer, parameter :: law_elastic = 1
+    integer, parameter :: law_duncan_eb = 2
+
+    !> Stage kinds (STAGES cards).
+    integer, parameter :: stage_fill = 1    !! activate an element group under its own weight
+    integer, parameter :: stage_load = 2    !! apply a load set
+    integer, parameter :: stage_reset = 3   !! zero the displacements, keep the stresses
+
+    !> How the displacement of a new layer's own nodes during its placement counts
+    !> (CONTROL field NEWTOP, docs/theory.md section 9).
+    integer, parameter :: newtop_zero = 0   !! zeroed when the layer is complete (default)
+    integer, parameter :: newtop_count = 1  !! counted
+
+    !> Nonlinear solution per increment (CONTROL field SOLVER).
+    integer, parameter :: solver_midpoint = 1  !! midpoint stiffness (modified Euler)
+    integer, parameter :: solver_euler = 2     !! forward Euler (tangent at the start)
+    integer, parameter :: solver_newton = 3    !! midpoint predictor, then Newton iterations
 
     !> Element kinds; the element factory maps each to an element implementation.
     integer, parameter :: elem_quad4 = 1
@@ -31,6 +49,12 @@ module cfrd_model
         real(dp) :: unit_weight = 0.0_dp     !! kN/m3, for gravity loads
         real(dp) :: youngs_modulus = 0.0_dp  !! kPa (ELASTIC)
         real(dp) :: poisson_ratio = 0.0_dp   !! - (ELASTIC)
+        !> Duncan-Chang E-B parameters (law EB): K, n, Rf, Kb, m, phi0 (deg), dphi (deg),
+        !> c (kPa), Kur, floor on sigma3 (kPa)
+        real(dp) :: k_modulus = 0.0_dp, n_exponent = 0.0_dp, failure_ratio = 0.0_dp
+        real(dp) :: k_bulk = 0.0_dp, m_exponent = 0.0_dp
+        real(dp) :: phi0 = 0.0_dp, dphi = 0.0_dp, cohesion = 0.0_dp
+        real(dp) :: k_unload = 0.0_dp, sigma3_floor = 0.0_dp
     end type material_t
 
     !> Nodes and elements. Triangles are degenerate quads with conn(4,e) == conn(3,e).
@@ -62,6 +86,24 @@ module cfrd_model
         real(dp) :: p2 = 0.0_dp   !! kPa
     end type pressure_load_t
 
+    !> A named set of loads (a LOADS group); set 1 is the unnamed default set.
+    type :: load_set_t
+        character(len=10) :: name = ''
+        real(dp), allocatable :: nodal_force(:, :)  !! (2, nnode) kN/m
+        type(gravity_load_t), allocatable :: gravity(:)
+        type(pressure_load_t), allocatable :: pressures(:)
+    end type load_set_t
+
+    !> One construction or loading stage (a STAGES card).
+    type :: stage_t
+        integer :: kind = stage_load
+        integer :: group = 0          !! element group activated (FILL)
+        integer :: load_set = 1       !! load set applied (LOAD)
+        integer :: increments = 1
+        character(len=:), allocatable :: label
+        integer :: line = 0           !! deck line, for messages
+    end type stage_t
+
     !> Everything a deck says.
     type :: model_t
         character(len=:), allocatable :: deck_file   !! the file it was read from
@@ -75,9 +117,14 @@ module cfrd_model
         type(material_t), allocatable :: materials(:)
         logical, allocatable :: fixed(:, :)         !! (2, nnode) dof is prescribed
         real(dp), allocatable :: prescribed(:, :)   !! (2, nnode) its value, m
-        real(dp), allocatable :: nodal_force(:, :)  !! (2, nnode) kN/m
-        type(gravity_load_t), allocatable :: gravity(:)
-        type(pressure_load_t), allocatable :: pressures(:)
+        type(load_set_t), allocatable :: load_sets(:)
+        !> Stages in order; a deck without STAGES has one LOAD stage of the default set with
+        !> every element active.
+        type(stage_t), allocatable :: stages(:)
+        integer :: newtop = newtop_zero
+        integer :: solver = solver_midpoint
+        real(dp) :: tolerance = 1.0e-6_dp     !! Newton: residual / load, SOLVER = 3
+        integer :: max_iterations = 20        !! Newton iterations per increment
     end type model_t
 
 contains
@@ -89,8 +136,26 @@ contains
         select case (law)
         case (law_elastic)
             name = 'ELASTIC'
+        case (law_duncan_eb)
+            name = 'EB'
         case default
             name = 'UNKNOWN'
         end select
     end function law_name
+
+    !> The deck keyword of a stage kind.
+    pure function stage_kind_name(kind) result(name)
+        integer, intent(in) :: kind
+        character(len=:), allocatable :: name
+        select case (kind)
+        case (stage_fill)
+            name = 'FILL'
+        case (stage_load)
+            name = 'LOAD'
+        case (stage_reset)
+            name = 'RESET'
+        case default
+            name = 'UNKNOWN'
+        end select
+    end function stage_kind_name
 end module cfrd_model

@@ -21,7 +21,14 @@ module cfrd_results
 
     !> The state at the end of one stage.
     type :: stage_result_t
-        character(len=:), allocatable :: name
+        character(len=:), allocatable :: name      !! the stage's label, e.g. 'FILL L03'
+        integer :: kind = 0                        !! stage_fill, stage_load, stage_reset
+        integer :: increments = 0
+        integer :: factorisations = 0              !! numeric factorisations in the stage
+        integer :: iterations = 0                  !! Newton iterations in the stage
+        real(dp) :: max_residual = 0.0_dp          !! largest |residual| / |load| after an increment
+        real(dp) :: wall_time = 0.0_dp             !! s
+        logical, allocatable :: active(:)          !! (nelem) element active at the stage's end
         real(dp), allocatable :: displacement(:, :)   !! (2, nnode) m
         real(dp), allocatable :: reaction(:, :)       !! (2, nnode) kN/m, zero at free dofs
         real(dp), allocatable :: stress_gauss(:, :, :) !! (4, ngauss=4, nelem) kPa

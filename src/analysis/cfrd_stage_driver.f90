@@ -1,0 +1,531 @@
+!> The stage driver: construction and loading stages in order, each in increments solved by
+!> the midpoint stiffness method (modified Euler), forward Euler or Newton iterations, with the
+!> sparse pattern and UMFPACK's symbolic factorisation kept while the set of active elements
+!> holds (docs/theory.md, section 9).
+module cfrd_stage_driver
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+    use cfrd_kinds, only: dp
+    use cfrd_error, only: error_t, fatal_error, numerical_error
+    use cfrd_clock, only: wall_seconds
+    use cfrd_model, only: model_t, stage_fill, stage_load, stage_reset, newtop_zero, &
+                          solver_euler, solver_newton
+    use cfrd_results, only: results_t, stage_result_t, solver_stats_t
+    use cfrd_sparse, only: sparse_pattern_t, build_pattern
+    use cfrd_umfpack, only: umfpack_t
+    use cfrd_principal, only: principal_stresses
+    use cfrd_material_law, only: nhistory, is_linear, update_history
+    use cfrd_assembly, only: element_box_t, dof_map_t, make_elements, number_equations, &
+                             load_set_forces, fill_forces, assemble_tangent, internal_forces, &
+                             element_tangents, gather
+    implicit none
+    private
+
+    public :: run_analysis, progress_interface
+
+    integer, parameter :: ngauss = 4
+
+    !> Called after each stage, e.g. to print a progress line.
+    abstract interface
+        subroutine progress_interface(number, total, stage)
+            import :: stage_result_t
+            integer, intent(in) :: number, total
+            type(stage_result_t), intent(in) :: stage
+        end subroutine progress_interface
+    end interface
+
+    !> The evolving state: displacements since the last reset, Gauss-point stresses and
+    !> history, active elements, and the external load applied so far.
+    type :: state_t
+        real(dp), allocatable :: u(:, :)             !! (2, nnode)
+        real(dp), allocatable :: stress(:, :, :)     !! (4, ngauss, nelem)
+        real(dp), allocatable :: history(:, :, :)    !! (nhistory, ngauss, nelem)
+        logical, allocatable :: active(:)            !! (nelem)
+        real(dp), allocatable :: f_ext(:, :)         !! (2, nnode) applied so far
+        logical :: prescribed_done = .false.         !! BOUNDARY values applied
+    end type state_t
+
+    !> The linear-algebra objects of one active set.
+    type :: system_t
+        type(dof_map_t) :: dofmap
+        type(sparse_pattern_t) :: pattern
+        type(umfpack_t) :: solver
+        real(dp), allocatable :: values(:)
+        logical :: factorised_linear = .false.   !! a constant tangent is factorised already
+        logical :: analysed = .false.            !! the symbolic factorisation exists
+    end type system_t
+
+contains
+
+    !> Run every stage of the model.
+    subroutine run_analysis(model, results, error, progress)
+        type(model_t), intent(in) :: model
+        type(results_t), intent(out) :: results
+        type(error_t), allocatable, intent(out) :: error
+        procedure(progress_interface), optional :: progress
+        type(element_box_t), allocatable :: library(:)
+        type(state_t) :: state
+        type(system_t) :: system
+        real(dp) :: t_start
+        integer :: s
+
+        t_start = wall_seconds()
+        call make_elements(model, library, error)
+        if (allocated(error)) return
+        call initial_state(model, state)
+        allocate (results%stages(size(model%stages)))
+        do s = 1, size(model%stages)
+            call run_stage(model, library, s, state, system, results%stages(s), error)
+            if (allocated(error)) return
+            if (present(progress)) call progress(s, size(model%stages), results%stages(s))
+        end do
+        results%wall_time = wall_seconds() - t_start
+    end subroutine run_analysis
+
+    !> Elements of groups that some FILL stage places start inactive; all others are active
+    !> from the start (the foundation, or every element of a deck without FILL stages).
+    subroutine initial_state(model, state)
+        type(model_t), intent(in) :: model
+        type(state_t), intent(out) :: state
+        logical, allocatable :: filled_group(:)
+        integer :: s, e
+        associate (mesh => model%mesh)
+            allocate (filled_group(0:size(mesh%group_name)), source=.false.)
+            do s = 1, size(model%stages)
+                if (model%stages(s)%kind == stage_fill) &
+                    filled_group(model%stages(s)%group) = .true.
+            end do
+            allocate (state%active(mesh%nelem))
+            do e = 1, mesh%nelem
+                state%active(e) = .not. filled_group(mesh%group(e))
+            end do
+            allocate (state%u(2, mesh%nnode), state%f_ext(2, mesh%nnode), source=0.0_dp)
+            allocate (state%stress(4, ngauss, mesh%nelem), source=0.0_dp)
+            allocate (state%history(nhistory, ngauss, mesh%nelem), source=0.0_dp)
+        end associate
+    end subroutine initial_state
+
+    subroutine run_stage(model, library, s, state, system, result, error)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        integer, intent(in) :: s
+        type(state_t), intent(inout) :: state
+        type(system_t), intent(inout) :: system
+        type(stage_result_t), intent(out) :: result
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), allocatable :: stage_force(:, :), f_start(:, :), du_prescribed(:, :)
+        logical, allocatable :: was_used(:)
+        real(dp) :: t0, t1
+        integer :: inc, nodes_before
+        character(len=:), allocatable :: context
+
+        t0 = wall_seconds()
+        associate (stage => model%stages(s), mesh => model%mesh)
+            result%name = stage%label
+            result%kind = stage%kind
+            allocate (stage_force(2, mesh%nnode), du_prescribed(2, mesh%nnode), source=0.0_dp)
+            was_used = node_in_use(model, state%active)
+            nodes_before = count(was_used)
+            select case (stage%kind)
+            case (stage_reset)
+                state%u = 0.0_dp
+            case (stage_fill)
+                where (mesh%group == stage%group) state%active = .true.
+                call fill_forces(model, library, stage%group, stage_force)
+            case (stage_load)
+                call load_set_forces(model, library, model%load_sets(stage%load_set), &
+                                     state%active, stage_force)
+                ! The BOUNDARY displacement values are reached over the first LOAD stage of
+                ! the default load set (docs/cards.md, STAGES).
+                if (stage%load_set == 1 .and. .not. state%prescribed_done) then
+                    du_prescribed = merge(model%prescribed, 0.0_dp, model%fixed)/ &
+                                    stage%increments
+                    state%prescribed_done = .true.
+                end if
+            end select
+
+            if (stage%kind /= stage_reset) then
+                if (stage%kind == stage_fill .or. .not. allocated(system%values)) then
+                    t1 = wall_seconds()
+                    call new_system(model, library, state%active, system, error)
+                    if (allocated(error)) return
+                    result%stats%t_pattern = wall_seconds() - t1
+                end if
+                result%stats%neq = system%pattern%n
+                result%stats%nnz = system%pattern%nnz
+                f_start = state%f_ext
+                do inc = 1, stage%increments
+                    context = 'stage '//itoa(s)//' ('//stage%label//'), increment '// &
+                            itoa(inc)//' of '//itoa(stage%increments)
+                    call solve_increment(model, library, state, system, &
+                                         f_start + stage_force*(real(inc, dp)/stage%increments), &
+                                         du_prescribed, result, context, error)
+                    if (allocated(error)) return
+                end do
+                result%increments = stage%increments
+                ! New layer's own nodes: their displacement during placement is not counted
+                ! (NEWTOP = 0, docs/theory.md section 9).
+                if (stage%kind == stage_fill .and. model%newtop == newtop_zero) then
+                    associate (used => node_in_use(model, state%active))
+                        where (spread(used .and. .not. was_used, 1, 2)) state%u = 0.0_dp
+                    end associate
+                end if
+            end if
+            call record(model, library, state, result)
+            result%wall_time = wall_seconds() - t0
+        end associate
+    end subroutine run_stage
+
+    pure function node_in_use(model, active) result(used)
+        type(model_t), intent(in) :: model
+        logical, intent(in) :: active(:)
+        logical, allocatable :: used(:)
+        integer :: e
+        allocate (used(model%mesh%nnode), source=.false.)
+        do e = 1, model%mesh%nelem
+            if (active(e)) used(model%mesh%conn(:, e)) = .true.
+        end do
+    end function node_in_use
+
+    !> Equations, pattern and a fresh solver for the current active set.
+    subroutine new_system(model, library, active, system, error)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        logical, intent(in) :: active(:)
+        type(system_t), intent(inout) :: system
+        type(error_t), allocatable, intent(out) :: error
+        call system%solver%release()
+        call number_equations(model, library, active, system%dofmap)
+        call build_pattern(system%pattern, system%dofmap%neq, system%dofmap%dof_ptr, &
+                           system%dofmap%dofs, error)
+        if (allocated(error)) return
+        if (allocated(system%values)) deallocate (system%values)
+        allocate (system%values(system%pattern%nnz), source=0.0_dp)
+        system%factorised_linear = .false.
+        system%analysed = .false.
+    end subroutine new_system
+
+    !> Assemble the tangent at the given stresses and factorise it (numeric phase only while
+    !> the pattern holds). A constant (linear elastic) tangent is factorised once per system.
+    subroutine factorise_at(model, library, state, stress, system, result, context, error)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        type(state_t), intent(in) :: state
+        real(dp), intent(in) :: stress(:, :, :)
+        type(system_t), intent(inout) :: system
+        type(stage_result_t), intent(inout) :: result
+        character(len=*), intent(in) :: context
+        type(error_t), allocatable, intent(out) :: error
+        real(dp) :: t0, t1
+        logical :: linear
+        linear = all_linear(model, state%active)
+        if (linear .and. system%factorised_linear) return
+        t0 = wall_seconds()
+        call assemble_tangent(model, library, state%active, system%pattern, stress, &
+                              state%history, system%values)
+        t1 = wall_seconds()
+        result%stats%t_assembly = result%stats%t_assembly + (t1 - t0)
+        if (.not. system%analysed) then
+            ! Symbolic factorisation once per pattern (after the first assembly, so that
+            ! UMFPACK sees the values it orders for).
+            call system%solver%analyse(system%pattern, system%values, error)
+            if (allocated(error)) then
+                error%message = context//': '//error%message
+                return
+            end if
+            system%analysed = .true.
+            result%stats%t_symbolic = result%stats%t_symbolic + (wall_seconds() - t1)
+            t1 = wall_seconds()
+        end if
+        call system%solver%factorise(system%pattern, system%values, error)
+        if (allocated(error)) then
+            error%message = context//': '//error%message
+            return
+        end if
+        result%stats%t_numeric = result%stats%t_numeric + (wall_seconds() - t1)
+        result%stats%rcond = system%solver%rcond()
+        result%factorisations = result%factorisations + 1
+        system%factorised_linear = linear
+    end subroutine factorise_at
+
+    pure logical function all_linear(model, active)
+        type(model_t), intent(in) :: model
+        logical, intent(in) :: active(:)
+        integer :: e
+        all_linear = .true.
+        do e = 1, model%mesh%nelem
+            if (.not. active(e)) cycle
+            if (.not. is_linear(model%materials(model%mesh%material(e)))) then
+                all_linear = .false.
+                return
+            end if
+        end do
+    end function all_linear
+
+    !> One increment to the external load `f_target`: the right-hand side is the out-of-
+    !> balance force f_target - f_int(sigma_n), so that the residual left by earlier increments
+    !> is carried into this one (equilibrium correction).
+    subroutine solve_increment(model, library, state, system, f_target, du_prescribed, &
+                               result, context, error)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        type(state_t), intent(inout) :: state
+        type(system_t), intent(inout) :: system
+        real(dp), intent(in) :: f_target(:, :)
+        real(dp), intent(in) :: du_prescribed(:, :)   !! increment of prescribed displacements
+        type(stage_result_t), intent(inout) :: result
+        character(len=*), intent(in) :: context
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), allocatable :: du(:, :), stress_end(:, :, :), stress_mid(:, :, :)
+        real(dp) :: residual, load_norm
+        integer :: iteration
+
+        load_norm = max(norm2(f_target), tiny(1.0_dp))
+        ! Predictor with the tangent at the start of the increment.
+        call factorise_at(model, library, state, state%stress, system, result, context, error)
+        if (allocated(error)) return
+        call solve_out_of_balance(model, library, state, state%stress, f_target, du_prescribed, &
+                                  system, du, result, context, error)
+        if (allocated(error)) return
+        if (model%solver == solver_euler) then
+            call integrate_stress(model, library, state, du, stress_end, stress_mid, .false.)
+        else
+            ! Midpoint: stresses half-way, the tangent there, and the increment again.
+            call integrate_stress(model, library, state, 0.5_dp*du, stress_mid, stress_end, &
+                                  .false.)
+            call factorise_at(model, library, state, stress_mid, system, result, context, error)
+            if (allocated(error)) return
+            call solve_out_of_balance(model, library, state, state%stress, f_target, &
+                                      du_prescribed, system, du, result, context, error)
+            if (allocated(error)) return
+            call integrate_stress(model, library, state, du, stress_end, stress_mid, .true.)
+        end if
+        residual = out_of_balance(model, library, state%active, stress_end, f_target, &
+                                  system%dofmap)/load_norm
+        if (model%solver == solver_newton) then
+            iteration = 0
+            do while (residual > model%tolerance)
+                iteration = iteration + 1
+                if (iteration > model%max_iterations) then
+                    call fatal_error(error, context//': no convergence after '// &
+                                     itoa(model%max_iterations)//' Newton iterations '// &
+                                     '(relative residual '//rtoa(residual)//', tolerance '// &
+                                     rtoa(model%tolerance)//')', numerical_error)
+                    return
+                end if
+                call factorise_at(model, library, state, stress_end, system, result, context, &
+                                  error)
+                if (allocated(error)) return
+                block
+                    real(dp), allocatable :: ddu(:, :)
+                    call solve_out_of_balance(model, library, state, stress_end, f_target, &
+                                              0.0_dp*du_prescribed, system, ddu, result, &
+                                              context, error)
+                    if (allocated(error)) return
+                    du = du + ddu
+                end block
+                call integrate_stress(model, library, state, du, stress_end, stress_mid, .true.)
+                residual = out_of_balance(model, library, state%active, stress_end, f_target, &
+                                          system%dofmap)/load_norm
+                result%iterations = result%iterations + 1
+            end do
+        end if
+        if (.not. (residual < huge(1.0_dp))) then
+            call fatal_error(error, context//': the solution is not finite', numerical_error)
+            return
+        end if
+        state%u = state%u + du
+        state%stress = stress_end
+        state%f_ext = f_target
+        call accept_history(model, state)
+        result%max_residual = max(result%max_residual, residual)
+    end subroutine solve_increment
+
+    !> du = du_p + K^-1 (f_target - f_int(stress + D B du_p)) on the free dofs: the prescribed
+    !> increment du_p moves the fixed dofs, and the forces it causes (K_fp du_p, through the
+    !> tangent at `stress`) join the out-of-balance force.
+    subroutine solve_out_of_balance(model, library, state, stress, f_target, du_p, system, &
+                                    du, result, context, error)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        type(state_t), intent(in) :: state
+        real(dp), intent(in) :: stress(:, :, :), f_target(:, :), du_p(:, :)
+        type(system_t), intent(inout) :: system
+        real(dp), allocatable, intent(out) :: du(:, :)
+        type(stage_result_t), intent(inout) :: result
+        character(len=*), intent(in) :: context
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), allocatable :: f_int(:, :), b(:), x(:)
+        real(dp) :: t0
+        integer :: node, k
+        allocate (f_int(2, model%mesh%nnode))
+        if (any(du_p /= 0.0_dp)) then
+            call internal_forces(model, library, state%active, &
+                                 stress_after(model, library, state, stress, du_p), f_int)
+        else
+            call internal_forces(model, library, state%active, stress, f_int)
+        end if
+        allocate (b(system%dofmap%neq), x(system%dofmap%neq))
+        do node = 1, model%mesh%nnode
+            do k = 1, 2
+                if (system%dofmap%eq(k, node) > 0) b(system%dofmap%eq(k, node)) = &
+                    f_target(k, node) - f_int(k, node)
+            end do
+        end do
+        t0 = wall_seconds()
+        call system%solver%solve(system%pattern, system%values, b, x, error)
+        if (allocated(error)) then
+            error%message = context//': '//error%message
+            return
+        end if
+        result%stats%t_solve = result%stats%t_solve + (wall_seconds() - t0)
+        if (.not. all(ieee_is_finite(x))) then
+            call fatal_error(error, context//': the solution is not finite (singular '// &
+                             'stiffness matrix?)', numerical_error)
+            return
+        end if
+        du = du_p
+        do node = 1, model%mesh%nnode
+            do k = 1, 2
+                if (system%dofmap%eq(k, node) > 0) du(k, node) = x(system%dofmap%eq(k, node))
+            end do
+        end do
+    end subroutine solve_out_of_balance
+
+    !> Stresses after the displacement increment du from the state's stresses: the strain
+    !> increment at each Gauss point is integrated with the tangent at its midpoint,
+    !> sigma_end = sigma_n + D(sigma_n + D(sigma_n) de/2) de when `midpoint`, else with the
+    !> tangent at the start. `stress_mid` returns the half-way stresses of that integration.
+    subroutine integrate_stress(model, library, state, du, stress_end, stress_mid, midpoint)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        type(state_t), intent(in) :: state
+        real(dp), intent(in) :: du(:, :)
+        real(dp), allocatable, intent(out) :: stress_end(:, :, :), stress_mid(:, :, :)
+        logical, intent(in) :: midpoint
+        real(dp) :: dmat(4, 4, ngauss), strain(4, ngauss)
+        integer :: e, nn, ig
+        stress_end = state%stress
+        stress_mid = state%stress
+        associate (mesh => model%mesh)
+            do e = 1, mesh%nelem
+                if (.not. state%active(e)) cycle
+                associate (element => library(mesh%kind(e))%element)
+                    nn = element%nodes()
+                    call element%strains(mesh%x(:, mesh%conn(1:nn, e)), &
+                                         gather(model, e, nn, du), strain)
+                    call element_tangents(model, e, state%stress(:, :, e), &
+                                          state%history(:, :, e), dmat)
+                    do ig = 1, ngauss
+                        stress_mid(:, ig, e) = state%stress(:, ig, e) + &
+                                               0.5_dp*matmul(dmat(:, :, ig), strain(:, ig))
+                    end do
+                    if (midpoint) call element_tangents(model, e, stress_mid(:, :, e), &
+                                                        state%history(:, :, e), dmat)
+                    do ig = 1, ngauss
+                        stress_end(:, ig, e) = state%stress(:, ig, e) + &
+                                               matmul(dmat(:, :, ig), strain(:, ig))
+                    end do
+                end associate
+            end do
+        end associate
+    end subroutine integrate_stress
+
+    !> stress + D(stress) B du at every Gauss point of the active elements.
+    function stress_after(model, library, state, stress, du) result(stress_new)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        type(state_t), intent(in) :: state
+        real(dp), intent(in) :: stress(:, :, :), du(:, :)
+        real(dp), allocatable :: stress_new(:, :, :)
+        real(dp) :: dmat(4, 4, ngauss), strain(4, ngauss)
+        integer :: e, nn, ig
+        stress_new = stress
+        associate (mesh => model%mesh)
+            do e = 1, mesh%nelem
+                if (.not. state%active(e)) cycle
+                associate (element => library(mesh%kind(e))%element)
+                    nn = element%nodes()
+                    call element%strains(mesh%x(:, mesh%conn(1:nn, e)), &
+                                         gather(model, e, nn, du), strain)
+                    call element_tangents(model, e, stress(:, :, e), state%history(:, :, e), &
+                                          dmat)
+                    do ig = 1, ngauss
+                        stress_new(:, ig, e) = stress(:, ig, e) + &
+                                               matmul(dmat(:, :, ig), strain(:, ig))
+                    end do
+                end associate
+            end do
+        end associate
+    end function stress_after
+
+    !> |f_target - f_int(stress)| over the free dofs.
+    function out_of_balance(model, library, active, stress, f_target, dofmap) result(norm)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        logical, intent(in) :: active(:)
+        real(dp), intent(in) :: stress(:, :, :), f_target(:, :)
+        type(dof_map_t), intent(in) :: dofmap
+        real(dp) :: norm
+        real(dp), allocatable :: f_int(:, :)
+        allocate (f_int(2, model%mesh%nnode))
+        call internal_forces(model, library, active, stress, f_int)
+        norm = norm2(merge(f_target - f_int, 0.0_dp, dofmap%eq > 0))
+    end function out_of_balance
+
+    subroutine accept_history(model, state)
+        type(model_t), intent(in) :: model
+        type(state_t), intent(inout) :: state
+        integer :: e, ig
+        do e = 1, model%mesh%nelem
+            if (.not. state%active(e)) cycle
+            do ig = 1, ngauss
+                call update_history(model%materials(model%mesh%material(e)), model%pa, &
+                                    state%stress(:, ig, e), state%history(:, ig, e))
+            end do
+        end do
+    end subroutine accept_history
+
+    !> The stage's results: displacements, stresses, principal stresses, reactions.
+    subroutine record(model, library, state, result)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        type(state_t), intent(in) :: state
+        type(stage_result_t), intent(inout) :: result
+        real(dp), allocatable :: f_int(:, :)
+        logical, allocatable :: used(:)
+        integer :: e
+        associate (mesh => model%mesh)
+            result%active = state%active
+            result%displacement = state%u
+            result%stress_gauss = state%stress
+            allocate (result%stress_centroid(4, mesh%nelem), result%principal(3, mesh%nelem))
+            do e = 1, mesh%nelem
+                result%stress_centroid(:, e) = sum(state%stress(:, :, e), dim=2)/ngauss
+                result%principal(:, e) = principal_stresses(result%stress_centroid(:, e))
+            end do
+            allocate (f_int(2, mesh%nnode))
+            call internal_forces(model, library, state%active, state%stress, f_int)
+            used = node_in_use(model, state%active)
+            result%reaction = merge(f_int - state%f_ext, 0.0_dp, &
+                                    model%fixed .and. spread(used, 1, 2))
+            result%applied_load = sum(state%f_ext, dim=2)
+            result%reaction_sum = sum(result%reaction, dim=2)
+        end associate
+    end subroutine record
+
+    pure function itoa(i) result(s)
+        integer, intent(in) :: i
+        character(len=:), allocatable :: s
+        character(len=16) :: buffer
+        write (buffer, '(i0)') i
+        s = trim(buffer)
+    end function itoa
+
+    pure function rtoa(x) result(s)
+        real(dp), intent(in) :: x
+        character(len=:), allocatable :: s
+        character(len=16) :: buffer
+        write (buffer, '(es10.3)') x
+        s = trim(adjustl(buffer))
+    end function rtoa
+end module cfrd_stage_driver
