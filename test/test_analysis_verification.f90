@@ -5,7 +5,8 @@ module test_analysis_verification
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t
     use cfrd_testing, only: unittest_t, new_unittest, check
-    use cfrd_model, only: model_t, gravity_load_t
+    use cfrd_model, only: model_t, gravity_load_t, stage_t, stage_fill, newtop_count, &
+                          newtop_zero
     use cfrd_results, only: results_t
     use cfrd_elastic, only: elastic_dmatrix, constrained_modulus
     use cfrd_linear_static, only: solve_linear_static
@@ -26,7 +27,10 @@ contains
                 new_unittest('patch_test_traction', test_patch_traction), &
                 new_unittest('confined_column_uniform', test_column_uniform), &
                 new_unittest('confined_column_graded', test_column_graded), &
-                new_unittest('lame_cylinder_rate', test_lame_rate) &
+                new_unittest('lame_cylinder_rate', test_lame_rate), &
+                new_unittest('layered_column_newtop_zero', test_layers_zero), &
+                new_unittest('layered_column_newtop_count', test_layers_count), &
+                new_unittest('layered_column_limit_rate', test_layers_limit) &
                 ]
     end subroutine collect_analysis_verification
 
@@ -256,4 +260,120 @@ contains
                        0.0_dp, 'reaction balance', abs=1e-9_dp)
         end associate
     end subroutine lame_error
+
+    !> A column of n layers, one element each, placed one by one (FILL stages), sides held in
+    !> x, base fixed: a 1D bar built in layers. docs/theory.md section 9 derives the
+    !> settlement of level j (z = j h) at the end of construction:
+    !>   NEWTOP = 0 (zeroed after placement): s_j = gamma h^2 j (n - j) / M = gamma z (H-z)/M,
+    !>   NEWTOP = 1 (counted):                s_j = gamma h^2 (j - 1/2 + j (n - j)) / M.
+    subroutine layered_column(n, newtop, settlement, exact, error)
+        integer, intent(in) :: n, newtop
+        real(dp), allocatable, intent(out) :: settlement(:), exact(:)
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), parameter :: gamma = 20.0_dp, e_mod = 3.0e4_dp, nu = 0.25_dp, height = 40.0_dp
+        type(model_t) :: model
+        type(results_t) :: results
+        real(dp), allocatable :: x(:, :)
+        integer, allocatable :: conn(:, :)
+        real(dp) :: h, m
+        integer :: i, j
+        h = height/n
+        allocate (x(2, 2*(n + 1)), conn(4, n))
+        do i = 0, n
+            x(:, 2*i + 1) = [0.0_dp, i*h]
+            x(:, 2*i + 2) = [1.0_dp, i*h]
+        end do
+        do i = 1, n
+            conn(:, i) = [2*i - 1, 2*i, 2*i + 2, 2*i + 1]
+        end do
+        call new_model(model, x, conn, [(1, i=1, n)], [elastic_material(e_mod, nu, gamma)])
+        model%fixed(1, :) = .true.
+        model%fixed(2, 1:2) = .true.
+        model%newtop = newtop
+        model%mesh%group = [(i, i=1, n)]
+        deallocate (model%mesh%group_name)
+        allocate (model%mesh%group_name(n))
+        do i = 1, n
+            write (model%mesh%group_name(i), '(a,i0)') 'L', i
+        end do
+        deallocate (model%stages)
+        allocate (model%stages(n))
+        do i = 1, n
+            model%stages(i) = stage_t(kind=stage_fill, group=i, increments=1, label='FILL')
+        end do
+        call solve_linear_static(model, results, error)
+        if (allocated(error)) return
+        m = constrained_modulus(e_mod, nu)
+        allocate (settlement(0:n), exact(0:n))
+        do j = 0, n
+            settlement(j) = -results%stages(n)%displacement(2, 2*j + 1)
+            if (j == 0) then
+                exact(j) = 0.0_dp
+            else if (newtop == newtop_zero) then
+                exact(j) = gamma*h**2*j*(n - j)/m
+            else
+                exact(j) = gamma*h**2*(j - 0.5_dp + j*(n - j))/m
+            end if
+        end do
+        associate (stage => results%stages(n))
+            call check(error, relative_imbalance(stage%applied_load, stage%reaction_sum), &
+                       0.0_dp, 'reaction balance of the built column', abs=1e-9_dp)
+            if (allocated(error)) return
+            call check(error, -stage%applied_load(2), gamma*height, 'weight placed', &
+                       rel=1e-12_dp)
+        end associate
+    end subroutine layered_column
+
+    subroutine test_layers_zero(error)
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), allocatable :: s(:), exact(:)
+        call layered_column(10, newtop_zero, s, exact, error)
+        if (allocated(error)) return
+        call check(error, maxval(abs(s - exact)), 0.0_dp, 'settlements, NEWTOP = 0', &
+                   abs=1e-9_dp*maxval(exact))
+    end subroutine test_layers_zero
+
+    subroutine test_layers_count(error)
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), allocatable :: s(:), exact(:)
+        call layered_column(10, newtop_count, s, exact, error)
+        if (allocated(error)) return
+        call check(error, maxval(abs(s - exact)), 0.0_dp, 'settlements, NEWTOP = 1', &
+                   abs=1e-9_dp*maxval(exact))
+    end subroutine test_layers_count
+
+    !> Counted settlements tend to gamma z (H - z) / M at rate O(1/n): the largest
+    !> difference halves when n doubles (10, 20, 40 layers).
+    subroutine test_layers_limit(error)
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), allocatable :: s(:), exact(:)
+        real(dp) :: diff(3)
+        integer :: k, n
+        do k = 1, 3
+            n = 10*2**(k - 1)
+            call layered_column(n, newtop_count, s, exact, error)
+            if (allocated(error)) return
+            diff(k) = maxval(abs(s(1:n) - limit_values(n)))/maxval(limit_values(n))
+        end do
+        do k = 1, 2
+            call check(error, diff(k)/diff(k + 1), 2.0_dp, 'O(1/n) convergence to the limit', &
+                       rel=0.05_dp)
+            if (allocated(error)) return
+        end do
+    contains
+        !> gamma z (H - z) / M at the levels of an n-layer column (same data as above).
+        function limit_values(n) result(v)
+            integer, intent(in) :: n
+            real(dp), allocatable :: v(:)
+            real(dp), parameter :: gamma = 20.0_dp, height = 40.0_dp
+            real(dp) :: z, m
+            integer :: i
+            m = constrained_modulus(3.0e4_dp, 0.25_dp)
+            allocate (v(n))
+            do i = 1, n
+                z = i*height/n
+                v(i) = gamma*z*(height - z)/m
+            end do
+        end function limit_values
+    end subroutine test_layers_limit
 end module test_analysis_verification
