@@ -7,7 +7,8 @@ program cfrd_main
     use cfrd_model, only: model_t
     use cfrd_results, only: results_t
     use cfrd_deck, only: read_deck
-    use cfrd_linear_static, only: solve_linear_static
+    use cfrd_stage_driver, only: run_analysis
+    use cfrd_results, only: stage_result_t
     use cfrd_listing, only: write_listing, write_summary
     use cfrd_hdf5, only: write_results_h5
     use cfrd_files, only: move_file, delete_file, base_name, strip_extension
@@ -56,7 +57,13 @@ contains
                 model%mesh%nnode, ' nodes, ', model%mesh%nelem, ' elements)'
             return
         end if
-        if (.not. allocated(error)) call solve_linear_static(model, results, error)
+        if (.not. allocated(error)) then
+            if (options%quiet) then
+                call run_analysis(model, results, error)
+            else
+                call run_analysis(model, results, error, print_progress)
+            end if
+        end if
         if (.not. allocated(error)) then
             if (allocated(options%out_dir)) then
                 stem = options%out_dir//'/'//strip_extension(base_name(path))
@@ -75,6 +82,17 @@ contains
             write (output_unit, '(a)') 'Results: '//stem//'.out, '//stem//'.h5'
         end if
     end subroutine run_deck
+
+    !> One line per stage on the terminal.
+    subroutine print_progress(number, total, stage)
+        integer, intent(in) :: number, total
+        type(stage_result_t), intent(in) :: stage
+        write (output_unit, '(a,i0,a,i0,2a,i0,a,i0,a,i0,a,es9.2,a,f8.3,a)') '  stage ', number, &
+            '/', total, ': ', stage%name//', ', stage%increments, ' increments, ', &
+            stage%factorisations, ' factorisations, ', stage%iterations, &
+            ' iterations, residual', stage%max_residual, ',', stage%wall_time, ' s'
+        flush (output_unit)
+    end subroutine print_progress
 
     !> Write both result files under temporary names, then rename them into place, so that a
     !> failed run leaves the results of an earlier run untouched.

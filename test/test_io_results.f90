@@ -46,6 +46,7 @@ contains
         allocate (results%stages(1))
         associate (s => results%stages(1))
             s%name = 'LOADS'
+            s%active = [.true., .true.]
             s%displacement = reshape([(0.001_dp*i, i=1, 12)], [2, 6])
             s%reaction = 0.0_dp*s%displacement
             s%reaction(:, 1:3) = reshape([1.5_dp, 10.0_dp, -0.5_dp, 20.0_dp, -1.0_dp, 12.0_dp], &

@@ -83,6 +83,12 @@ contains
             associate (stage => results%stages(s))
                 call open_group(stages_id, trim(stage_name), stage_id, st)
                 call attr_text(stage_id, 'name', stage%name, st)
+                call attr_int(stage_id, 'increments', stage%increments, st)
+                call attr_int(stage_id, 'factorisations', stage%factorisations, st)
+                call attr_int(stage_id, 'iterations', stage%iterations, st)
+                call attr_real(stage_id, 'max_residual', [stage%max_residual], st)
+                call attr_real(stage_id, 'wall_time', [stage%wall_time], st)
+                call dataset_int1(stage_id, 'active', merge(1, 0, stage%active), st)
                 call dataset_real2(stage_id, 'displacement', stage%displacement, 'm', &
                                    'ux, uy', st)
                 call dataset_real2(stage_id, 'reaction', stage%reaction, 'kN/m', 'rx, ry', st)

@@ -34,9 +34,10 @@ contains
         call write_banner(unit, model)
         call write_echo(unit, model)
         call write_model_summary(unit, model)
-        do s = 1, size(results%stages)
-            call write_stage(unit, model, results%stages(s), s)
-        end do
+        call write_stage_table(unit, model, results)
+        ! The full tables of the last stage; every stage's state is in the HDF5 file.
+        s = size(results%stages)
+        call write_stage(unit, model, results%stages(s), s)
         write (unit, '(/,a,f10.3,a)', iostat=stat, iomsg=msg) ' TOTAL ANALYSIS TIME', &
             results%wall_time, ' s'
         if (stat /= 0) then
@@ -102,6 +103,31 @@ contains
             end associate
         end do
     end subroutine write_model_summary
+
+    !> One line per stage: what it did, how the solution went, the extreme displacements.
+    subroutine write_stage_table(unit, model, results)
+        integer, intent(in) :: unit
+        type(model_t), intent(in) :: model
+        type(results_t), intent(in) :: results
+        integer :: s, node_s, node_x, node_xm
+        write (unit, '(/,a,/,a,/,a)') rule, ' STAGES', rule
+        write (unit, '(a)') '  STAGE LABEL                      ACTIVE INC FACT ITER   '// &
+            'MAX RESID  MAX SETTL (m)   NODE     MAX UX (m)   NODE     MIN UX (m)   NODE'
+        do s = 1, size(results%stages)
+            associate (st => results%stages(s))
+                node_s = minloc(st%displacement(2, :), dim=1)
+                node_x = maxloc(st%displacement(1, :), dim=1)
+                node_xm = minloc(st%displacement(1, :), dim=1)
+                write (unit, '(i7,1x,a26,i7,i4,i5,i5,es12.3,3(es15.5,i7))') s, st%name, &
+                    count(st%active), st%increments, st%factorisations, st%iterations, &
+                    st%max_residual, -st%displacement(2, node_s), node_s, &
+                    st%displacement(1, node_x), node_x, st%displacement(1, node_xm), node_xm
+            end associate
+        end do
+        write (unit, '(a,i0,a)') '  (', model%mesh%nelem, ' elements in the mesh; displacements'// &
+            ' since the last RESET; MAX RESID = |out-of-balance force| / |load| after an'// &
+            ' increment)'
+    end subroutine write_stage_table
 
     subroutine write_stage(unit, model, stage, number)
         integer, intent(in) :: unit, number
