@@ -6,7 +6,7 @@ module test_analysis_verification
     use cfrd_error, only: error_t
     use cfrd_testing, only: unittest_t, new_unittest, check
     use cfrd_model, only: model_t, gravity_load_t, stage_t, stage_fill, newtop_count, &
-                          newtop_zero
+                          newtop_zero, axisymmetric
     use cfrd_results, only: results_t
     use cfrd_elastic, only: elastic_dmatrix, constrained_modulus
     use cfrd_linear_static, only: solve_linear_static
@@ -30,7 +30,8 @@ contains
                 new_unittest('lame_cylinder_rate', test_lame_rate), &
                 new_unittest('layered_column_newtop_zero', test_layers_zero), &
                 new_unittest('layered_column_newtop_count', test_layers_count), &
-                new_unittest('layered_column_limit_rate', test_layers_limit) &
+                new_unittest('layered_column_limit_rate', test_layers_limit), &
+                new_unittest('axisymmetric_triaxial_patch', test_axisymmetric_patch) &
                 ]
     end subroutine collect_analysis_verification
 
@@ -376,4 +377,63 @@ contains
             end do
         end function limit_values
     end subroutine test_layers_limit
+
+    !> An axisymmetric triaxial sample (radius 0.05 m, height 0.1 m, four distorted quads, one
+    !> node on the axis) under a cell pressure p3 on its side and p1 on its top: the stress is
+    !> uniform, sigma_r = sigma_theta = -p3, sigma_z = -p1, and u_r = eps_r r, u_z = eps_z z
+    !> with eps_r = (sigma_r - nu (sigma_theta + sigma_z))/E (Hooke, closed form).
+    subroutine test_axisymmetric_patch(error)
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), parameter :: r0 = 0.05_dp, h0 = 0.1_dp, e_mod = 1.0e4_dp, nu = 0.3_dp, &
+                               p3 = 100.0_dp, p1 = 300.0_dp
+        type(model_t) :: model
+        type(results_t) :: results
+        real(dp) :: x(2, 9), eps_r, eps_z, sigma(4)
+        integer :: conn(4, 4), node, e, ig
+        ! Nodes 1-3 at z = 0, 4-6 mid-height (node 5 moved off the grid), 7-9 on top.
+        x = reshape([0.0_dp, 0.0_dp, 0.6_dp*r0, 0.0_dp, r0, 0.0_dp, &
+                     0.0_dp, 0.45_dp*h0, 0.55_dp*r0, 0.55_dp*h0, r0, 0.5_dp*h0, &
+                     0.0_dp, h0, 0.4_dp*r0, h0, r0, h0], [2, 9])
+        conn = reshape([1, 2, 5, 4, 2, 3, 6, 5, 4, 5, 8, 7, 5, 6, 9, 8], [4, 4])
+        call new_model(model, x, conn, [1, 1, 1, 1], [elastic_material(e_mod, nu, 0.0_dp)])
+        model%analysis = axisymmetric
+        model%fixed(1, [1, 4, 7]) = .true.      ! the axis: u_r = 0
+        model%fixed(2, 1:3) = .true.            ! the base: u_z = 0
+        call add_pressure(model, 2, 2, p3, p3)  ! side r = r0 of elements 2 and 4
+        call add_pressure(model, 4, 2, p3, p3)
+        call add_pressure(model, 3, 3, p1, p1)  ! top of elements 3 and 4
+        call add_pressure(model, 4, 3, p1, p1)
+        call solve_linear_static(model, results, error)
+        if (allocated(error)) return
+        eps_r = (-p3 - nu*(-p3 - p1))/e_mod
+        eps_z = (-p1 - nu*(-2.0_dp*p3))/e_mod
+        sigma = [-p3, -p1, -p3, 0.0_dp]
+        associate (stage => results%stages(1))
+            do node = 1, 9
+                call check(error, stage%displacement(1, node), eps_r*x(1, node), 'u_r', &
+                           abs=1e-10_dp*abs(eps_r)*r0)
+                if (allocated(error)) return
+                call check(error, stage%displacement(2, node), eps_z*x(2, node), 'u_z', &
+                           abs=1e-10_dp*abs(eps_z)*h0)
+                if (allocated(error)) return
+            end do
+            do e = 1, 4
+                do ig = 1, 4
+                    call check(error, maxval(abs(stage%stress_gauss(:, ig, e) - sigma)), &
+                               0.0_dp, 'Gauss point stress', abs=1e-9_dp*p1)
+                    if (allocated(error)) return
+                end do
+            end do
+            ! Per radian: the top carries p1 r0^2 / 2, the side p3 r0 h0.
+            call check(error, stage%applied_load(2), -p1*r0**2/2.0_dp, 'axial load', &
+                       rel=1e-12_dp)
+            if (allocated(error)) return
+            call check(error, stage%applied_load(1), -p3*r0*h0, 'radial load', rel=1e-12_dp)
+            if (allocated(error)) return
+            ! Only the axial forces balance: radially, the hoop stress of the wedge's sides
+            ! carries the difference (integral of sigma_theta / r over the volume).
+            call check(error, stage%applied_load(2) + stage%reaction_sum(2), 0.0_dp, &
+                       'axial reaction balance', abs=1e-9_dp*abs(stage%applied_load(2)))
+        end associate
+    end subroutine test_axisymmetric_patch
 end module test_analysis_verification
