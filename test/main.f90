@@ -8,6 +8,7 @@ program cfrd_tests
     use test_elements_quad4, only: collect_elements_quad4
     use test_analysis_verification, only: collect_analysis_verification
     use test_io_results, only: collect_io_results
+    use test_analysis_rockfill, only: collect_analysis_rockfill
     implicit none
     character(len=64) :: only_suite, only_test
     type(unittest_t), allocatable :: tests(:)
@@ -35,6 +36,10 @@ program cfrd_tests
     if (wanted('analysis_verification')) then
         call collect_analysis_verification(tests)
         call run_suite('analysis_verification', tests, only_test, npass, nfail)
+    end if
+    if (wanted('analysis_rockfill')) then
+        call collect_analysis_rockfill(tests)
+        call run_suite('analysis_rockfill', tests, only_test, npass, nfail)
     end if
     if (wanted('io_results')) then
         call collect_io_results(tests)

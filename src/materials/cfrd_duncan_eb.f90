@@ -1,0 +1,134 @@
+!> The Duncan-Chang E-B law for rockfill (Duncan et al. 1980; paper eqs. 18-21) as pure
+!> functions of the stress, the Gauss-point history and the parameters
+!> (docs/theory.md, section 8). Inside the law compression is positive; the finite-element
+!> code keeps tension positive and the conversion happens here, at the law's boundary.
+module cfrd_duncan_eb
+    use cfrd_kinds, only: dp
+    use cfrd_elastic, only: elastic_dmatrix
+    implicit none
+    private
+
+    public :: eb_params_t, eb_state_t, eb_tangent, eb_stress_state, eb_initial_modulus
+    public :: eb_failure_deviator, eb_friction_angle, eb_principal, eb_unload_modulus
+    public :: nu_t_max
+
+    !> Upper bound of the tangent Poisson ratio: Bt <= Et / (3 (1 - 2 nu_t_max)).
+    real(dp), parameter :: nu_t_max = 0.49_dp
+    real(dp), parameter :: deg = 0.017453292519943295769_dp
+
+    !> Parameters of one E-B material (kPa, degrees, dimensionless).
+    type :: eb_params_t
+        real(dp) :: k = 0.0_dp, n = 0.0_dp, rf = 0.0_dp, kb = 0.0_dp, m = 0.0_dp
+        real(dp) :: phi0 = 0.0_dp, dphi = 0.0_dp, cohesion = 0.0_dp
+        real(dp) :: kur = 0.0_dp
+        real(dp) :: pa = 101.325_dp
+        real(dp) :: sigma3_floor = 10.1325_dp    !! kPa, floor on sigma3 in the moduli
+        real(dp) :: level_cap = 0.99_dp          !! cap of the stress level
+    end type eb_params_t
+
+    !> What the law saw at a point, for output and tests.
+    type :: eb_state_t
+        real(dp) :: sigma1 = 0.0_dp, sigma3 = 0.0_dp   !! in-plane principal, compression +
+        real(dp) :: phi = 0.0_dp                       !! degrees
+        real(dp) :: level = 0.0_dp                     !! stress level S, capped
+        real(dp) :: et = 0.0_dp, bt = 0.0_dp, nu_t = 0.0_dp
+        logical :: unloading = .false.
+    end type eb_state_t
+
+contains
+
+    !> In-plane principal stresses, compression positive: sigma1 >= sigma3, from the FE
+    !> stress (xx, yy, zz, xy) with tension positive.
+    pure subroutine eb_principal(stress, sigma1, sigma3)
+        real(dp), intent(in) :: stress(4)
+        real(dp), intent(out) :: sigma1, sigma3
+        real(dp) :: centre, radius
+        centre = -0.5_dp*(stress(1) + stress(2))
+        radius = hypot(0.5_dp*(stress(1) - stress(2)), stress(4))
+        sigma1 = centre + radius
+        sigma3 = centre - radius
+    end subroutine eb_principal
+
+    !> Friction angle (degrees) at confining stress sigma3 (eq. 20), sigma3 floored.
+    pure real(dp) function eb_friction_angle(p, sigma3) result(phi)
+        type(eb_params_t), intent(in) :: p
+        real(dp), intent(in) :: sigma3
+        phi = p%phi0 - p%dphi*log10(max(sigma3, p%sigma3_floor)/p%pa)
+        phi = min(max(phi, 1.0_dp), 89.0_dp)
+    end function eb_friction_angle
+
+    !> Deviator at failure (Mohr-Coulomb, as in eq. 19):
+    !> (sigma1 - sigma3)_f = (2 c cos phi + 2 sigma3 sin phi) / (1 - sin phi).
+    pure real(dp) function eb_failure_deviator(p, sigma3) result(qf)
+        type(eb_params_t), intent(in) :: p
+        real(dp), intent(in) :: sigma3
+        real(dp) :: s3, phi
+        s3 = max(sigma3, p%sigma3_floor)
+        phi = eb_friction_angle(p, s3)*deg
+        qf = (2.0_dp*p%cohesion*cos(phi) + 2.0_dp*s3*sin(phi))/(1.0_dp - sin(phi))
+    end function eb_failure_deviator
+
+    !> Initial tangent modulus Ei = K pa (sigma3/pa)^n.
+    pure real(dp) function eb_initial_modulus(p, sigma3) result(ei)
+        type(eb_params_t), intent(in) :: p
+        real(dp), intent(in) :: sigma3
+        ei = p%k*p%pa*(max(sigma3, p%sigma3_floor)/p%pa)**p%n
+    end function eb_initial_modulus
+
+    !> Unload-reload modulus Eur = Kur pa (sigma3/pa)^n.
+    pure real(dp) function eb_unload_modulus(p, sigma3) result(eur)
+        type(eb_params_t), intent(in) :: p
+        real(dp), intent(in) :: sigma3
+        eur = p%kur*p%pa*(max(sigma3, p%sigma3_floor)/p%pa)**p%n
+    end function eb_unload_modulus
+
+    !> Duncan's stress-state function SS = S (sigma3/pa)^(1/4), whose past maximum decides
+    !> between loading and unloading (Duncan et al. 1980).
+    pure real(dp) function eb_stress_state(p, stress) result(ss)
+        type(eb_params_t), intent(in) :: p
+        real(dp), intent(in) :: stress(4)
+        real(dp) :: sigma1, sigma3, level
+        call eb_principal(stress, sigma1, sigma3)
+        level = stress_level(p, sigma1, sigma3)
+        ss = level*sqrt(sqrt(max(sigma3, p%sigma3_floor)/p%pa))
+    end function eb_stress_state
+
+    pure real(dp) function stress_level(p, sigma1, sigma3) result(level)
+        type(eb_params_t), intent(in) :: p
+        real(dp), intent(in) :: sigma1, sigma3
+        level = (sigma1 - sigma3)/eb_failure_deviator(p, sigma3)
+        level = min(max(level, 0.0_dp), p%level_cap)
+    end function stress_level
+
+    !> Tangent matrix d(4,4) (FE component order, cfrd_elastic) at `stress` (tension
+    !> positive) with `ss_max`, the past maximum of the stress-state function at this point:
+    !> Et of eq. 19 when loading, Eur when SS < ss_max, Bt of eq. 21 bounded so that the
+    !> tangent Poisson ratio stays in [0, 0.49]. Finite and positive definite for any stress.
+    pure subroutine eb_tangent(p, stress, ss_max, d, state)
+        type(eb_params_t), intent(in) :: p
+        real(dp), intent(in) :: stress(4), ss_max
+        real(dp), intent(out) :: d(4, 4)
+        type(eb_state_t), intent(out), optional :: state
+        real(dp) :: sigma1, sigma3, s3, level, et, bt, nu_t, ss
+        logical :: unloading
+        call eb_principal(stress, sigma1, sigma3)
+        s3 = max(sigma3, p%sigma3_floor)
+        level = stress_level(p, sigma1, sigma3)
+        ss = level*sqrt(sqrt(s3/p%pa))
+        ! A small margin keeps round-off in a reloading point from flipping the branch.
+        unloading = ss < ss_max*(1.0_dp - 1.0e-9_dp)
+        if (unloading) then
+            et = eb_unload_modulus(p, s3)
+        else
+            et = eb_initial_modulus(p, s3)*(1.0_dp - p%rf*level)**2
+        end if
+        bt = p%kb*p%pa*(s3/p%pa)**p%m
+        bt = min(max(bt, et/3.0_dp), et/(3.0_dp*(1.0_dp - 2.0_dp*nu_t_max)))
+        nu_t = (3.0_dp*bt - et)/(6.0_dp*bt)
+        d = elastic_dmatrix(et, nu_t)
+        if (present(state)) then
+            state = eb_state_t(sigma1=sigma1, sigma3=sigma3, phi=eb_friction_angle(p, s3), &
+                               level=level, et=et, bt=bt, nu_t=nu_t, unloading=unloading)
+        end if
+    end subroutine eb_tangent
+end module cfrd_duncan_eb

@@ -1,0 +1,262 @@
+!> The E-B rockfill law through the finite-element analysis: a drained triaxial test on an
+!> axisymmetric element (cell pressure, then the deviator in stages at constant sigma3)
+!> against Kondner's hyperbola, the unload-reload slope, and the convergence rates of the
+!> midpoint and forward Euler increments (docs/theory.md sections 8 and 9).
+module test_analysis_rockfill
+    use cfrd_kinds, only: dp
+    use cfrd_error, only: error_t
+    use cfrd_testing, only: unittest_t, new_unittest, check
+    use cfrd_model, only: model_t, material_t, load_set_t, pressure_load_t, stage_t, &
+                          stage_load, stage_reset, axisymmetric, law_duncan_eb, &
+                          solver_midpoint, solver_euler
+    use cfrd_results, only: results_t
+    use cfrd_linear_static, only: solve_linear_static
+    use cfrd_duncan_eb, only: eb_params_t, eb_initial_modulus, eb_failure_deviator, &
+                              eb_unload_modulus, nu_t_max
+    use cfrd_material_law, only: eb_parameters
+    use cfrd_test_models, only: new_model, elastic_material
+    implicit none
+    private
+
+    public :: collect_analysis_rockfill
+
+    real(dp), parameter :: pa = 101.325_dp, radius = 0.05_dp, height = 0.1_dp
+
+    !> Table 3 of the paper (../shared/reference/tianshengqiao-i.md): phi0, dphi, K, n, Rf,
+    !> Kb, m for IIA, IIIA, IIIB, IIID, IIIC; c = 0, Kur = 2 K.
+    real(dp), parameter :: table3(7, 5) = reshape([ &
+                                                  50.6_dp, 7.0_dp, 1000.0_dp, 0.35_dp, 0.71_dp, 450.0_dp, 0.24_dp, &
+                                                  52.5_dp, 8.0_dp, 900.0_dp, 0.36_dp, 0.76_dp, 400.0_dp, 0.19_dp, &
+                                                  51.0_dp, 13.0_dp, 564.0_dp, 0.35_dp, 0.85_dp, 204.0_dp, 0.18_dp, &
+                                                  51.0_dp, 13.5_dp, 432.0_dp, 0.30_dp, 0.80_dp, 300.0_dp, -0.18_dp, &
+                                                  45.0_dp, 10.0_dp, 250.0_dp, 0.25_dp, 0.73_dp, 125.0_dp, 0.00_dp], &
+                                                  [7, 5])
+    character(len=4), parameter :: zone(5) = ['IIA ', 'IIIA', 'IIIB', 'IIID', 'IIIC']
+
+contains
+
+    subroutine collect_analysis_rockfill(tests)
+        type(unittest_t), allocatable, intent(out) :: tests(:)
+        tests = [ &
+                new_unittest('triaxial_kondner_hyperbola', test_kondner), &
+                new_unittest('triaxial_volumetric_strain', test_volumetric), &
+                new_unittest('unload_reload_slope', test_unload_reload), &
+                new_unittest('midpoint_second_order_euler_first', test_rates) &
+                ]
+    end subroutine collect_analysis_rockfill
+
+    pure function table3_material(i) result(mat)
+        integer, intent(in) :: i
+        type(material_t) :: mat
+        mat%law = law_duncan_eb
+        mat%label = zone(i)
+        mat%phi0 = table3(1, i)
+        mat%dphi = table3(2, i)
+        mat%k_modulus = table3(3, i)
+        mat%n_exponent = table3(4, i)
+        mat%failure_ratio = table3(5, i)
+        mat%k_bulk = table3(6, i)
+        mat%m_exponent = table3(7, i)
+        mat%k_unload = 2.0_dp*table3(3, i)
+        mat%sigma3_floor = 0.1_dp*pa
+    end function table3_material
+
+    !> One axisymmetric element (radius 0.05 m, height 0.1 m; axis and base on rollers).
+    !> Load set 1: the cell pressure p3 on the side and the top; set 2: a deviator step dq on
+    !> the top. Stages: set 1 in `ncell` increments, RESET, then `steps` times set 2 in `ninc`
+    !> increments each (one result per deviator step).
+    subroutine triaxial(mat, p3, dq, steps, ninc, solver, eps1, epsv, error, unload_steps)
+        type(material_t), intent(in) :: mat
+        real(dp), intent(in) :: p3, dq
+        integer, intent(in) :: steps, ninc, solver
+        real(dp), allocatable, intent(out) :: eps1(:), epsv(:)
+        type(error_t), allocatable, intent(out) :: error
+        integer, intent(in), optional :: unload_steps   !! then this many steps of -dq
+        type(model_t) :: model
+        type(results_t) :: results
+        integer :: s, nunload, ncell
+        nunload = 0
+        if (present(unload_steps)) nunload = unload_steps
+        ncell = 400
+        call new_model(model, reshape([0.0_dp, 0.0_dp, radius, 0.0_dp, radius, height, &
+                                       0.0_dp, height], [2, 4]), &
+                       reshape([1, 2, 3, 4], [4, 1]), [1], [mat])
+        model%analysis = axisymmetric
+        model%pa = pa
+        model%solver = solver
+        model%tolerance = 1.0e-11_dp
+        model%fixed(1, [1, 4]) = .true.
+        model%fixed(2, [1, 2]) = .true.
+        deallocate (model%load_sets, model%stages)
+        allocate (model%load_sets(3), model%stages(2 + steps + nunload))
+        do s = 1, 3
+            allocate (model%load_sets(s)%nodal_force(2, 4), source=0.0_dp)
+            allocate (model%load_sets(s)%gravity(0))
+        end do
+        model%load_sets(1)%pressures = [pressure_load_t(1, 2, p3, p3), &
+                                        pressure_load_t(1, 3, p3, p3)]
+        model%load_sets(2)%pressures = [pressure_load_t(1, 3, dq, dq)]
+        model%load_sets(3)%pressures = [pressure_load_t(1, 3, -dq, -dq)]
+        model%stages(1) = stage_t(kind=stage_load, load_set=1, increments=ncell, label='CELL')
+        model%stages(2) = stage_t(kind=stage_reset, label='RESET')
+        do s = 1, steps
+            model%stages(2 + s) = stage_t(kind=stage_load, load_set=2, increments=ninc, &
+                                          label='SHEAR')
+        end do
+        do s = 1, nunload
+            model%stages(2 + steps + s) = stage_t(kind=stage_load, load_set=3, &
+                                                  increments=ninc, label='UNLOAD')
+        end do
+        call solve_linear_static(model, results, error)
+        if (allocated(error)) return
+        allocate (eps1(steps + nunload), epsv(steps + nunload))
+        do s = 1, steps + nunload
+            associate (u => results%stages(2 + s)%displacement)
+                ! Compression positive: eps1 = -u_z(top)/H, eps_v = eps1 - 2 u_r(side)/R.
+                eps1(s) = -u(2, 3)/height
+                epsv(s) = eps1(s) - 2.0_dp*u(1, 3)/radius
+            end associate
+        end do
+    end subroutine triaxial
+
+    !> With sigma3 constant, d eps1 = dq / Et exactly (isotropic tangent, dsigma_r = 0), so
+    !> eps1 follows Kondner's hyperbola eps1 = q / (Ei (1 - Rf q / qf)) (Duncan & Chang 1970).
+    !> Every Table 3 material at 100, 500 and 1500 kPa, q in steps of 0.1 qf to 0.9 qf, 40
+    !> midpoint increments per step: 0.2 % (issue 4).
+    subroutine test_kondner(error)
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), parameter :: cell(3) = [100.0_dp, 500.0_dp, 1500.0_dp]
+        real(dp), allocatable :: eps1(:), epsv(:)
+        type(eb_params_t) :: p
+        real(dp) :: qf, ei, q, exact
+        integer :: i, c, s
+        character(len=60) :: what
+        do i = 1, 5
+            p = eb_parameters(table3_material(i), pa)
+            do c = 1, 3
+                qf = eb_failure_deviator(p, cell(c))
+                ei = eb_initial_modulus(p, cell(c))
+                call triaxial(table3_material(i), cell(c), 0.1_dp*qf, 9, 40, solver_midpoint, &
+                              eps1, epsv, error)
+                if (allocated(error)) return
+                do s = 1, 9
+                    q = 0.1_dp*qf*s
+                    exact = q/(ei*(1.0_dp - p%rf*q/qf))
+                    write (what, '(a,a,f7.1,a,f4.1,a)') trim(zone(i)), ' at ', cell(c), &
+                        ' kPa, q = ', 0.1_dp*s, ' qf: eps1'
+                    call check(error, eps1(s), exact, trim(what), rel=2.0e-3_dp)
+                    if (allocated(error)) return
+                end do
+            end do
+        end do
+    end subroutine test_kondner
+
+    !> eps_v: d eps_v = dp / Bt with dp = dq/3 at constant sigma3, Bt = Kb pa (s3/pa)^m
+    !> bounded below by Et/3 (nu_t >= 0). Where Et(q) > 3 Bt the bound holds and
+    !> d eps_v = dq/Et; it stops holding at q* = (qf/Rf)(1 - sqrt(3 Bt/Ei)). Hence
+    !> eps_v(q) = H(min(q, q*)) + max(q - q*, 0)/(3 Bt), H(x) = x/(Ei (1 - Rf x/qf)).
+    !> The upper bound (nu_t <= 0.49) must stay inactive on the path: checked below.
+    subroutine test_volumetric(error)
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), parameter :: cell(3) = [100.0_dp, 500.0_dp, 1500.0_dp]
+        real(dp), allocatable :: eps1(:), epsv(:)
+        type(eb_params_t) :: p
+        real(dp) :: qf, ei, bt, qstar, q, exact, et_min
+        integer :: i, c, s
+        character(len=60) :: what
+        do i = 1, 5
+            p = eb_parameters(table3_material(i), pa)
+            do c = 1, 3
+                qf = eb_failure_deviator(p, cell(c))
+                ei = eb_initial_modulus(p, cell(c))
+                bt = p%kb*pa*(cell(c)/pa)**p%m
+                et_min = ei*(1.0_dp - p%rf*0.9_dp)**2
+                call check(error, et_min > 3.0_dp*(1.0_dp - 2.0_dp*nu_t_max)*bt, &
+                           'upper Bt bound inactive on the path')
+                if (allocated(error)) return
+                qstar = 0.0_dp
+                if (3.0_dp*bt < ei) qstar = qf/p%rf*(1.0_dp - sqrt(3.0_dp*bt/ei))
+                call triaxial(table3_material(i), cell(c), 0.1_dp*qf, 9, 40, solver_midpoint, &
+                              eps1, epsv, error)
+                if (allocated(error)) return
+                do s = 1, 9
+                    q = 0.1_dp*qf*s
+                    exact = hyperbola(min(q, qstar)) + max(q - qstar, 0.0_dp)/(3.0_dp*bt)
+                    write (what, '(a,a,f7.1,a,f4.1,a)') trim(zone(i)), ' at ', cell(c), &
+                        ' kPa, q = ', 0.1_dp*s, ' qf: eps_v'
+                    call check(error, epsv(s), exact, trim(what), rel=2.0e-3_dp)
+                    if (allocated(error)) return
+                end do
+            end do
+        end do
+    contains
+        pure real(dp) function hyperbola(x)
+            real(dp), intent(in) :: x
+            hyperbola = x/(ei*(1.0_dp - p%rf*x/qf))
+        end function hyperbola
+    end subroutine test_volumetric
+
+    !> Load IIIB at 500 kPa to q = 0.6 qf, then unload by 0.1 qf: the unloading slope
+    !> dq / d eps1 is Eur = Kur pa (sigma3/pa)^n (Duncan et al. 1980), exactly, since sigma3
+    !> stays constant. The slope is taken over a second unloading step, after the first has
+    !> absorbed the out-of-balance force that the last loading increment left (with the
+    !> unloading modulus, linear, so none is left after it).
+    subroutine test_unload_reload(error)
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), allocatable :: eps1(:), epsv(:)
+        type(eb_params_t) :: p
+        real(dp) :: qf, slope
+        p = eb_parameters(table3_material(3), pa)
+        qf = eb_failure_deviator(p, 500.0_dp)
+        call triaxial(table3_material(3), 500.0_dp, 0.1_dp*qf, 6, 20, solver_midpoint, eps1, &
+                      epsv, error, unload_steps=2)
+        if (allocated(error)) return
+        slope = -0.1_dp*qf/(eps1(8) - eps1(7))
+        ! Exact up to the out-of-balance force the midpoint increments leave (about 1e-6 of
+        ! the load here): 1e-5.
+        call check(error, slope, eb_unload_modulus(p, 500.0_dp), 'unloading slope', &
+                   rel=1.0e-5_dp)
+    end subroutine test_unload_reload
+
+    !> IIIB at 500 kPa loaded to 0.8 qf with 1, 2, ..., 64 increments: the error of eps1
+    !> against 1024 midpoint increments falls as h^2 for the midpoint rule and as h for
+    !> forward Euler (docs/theory.md section 9; the table is in docs/performance.md). The
+    !> asymptotic rate shows from 16 increments on (the same scheme on the 1D hyperbola gives
+    !> 1.73 and 1.86 over the last two halvings), so the rates are taken from 16, 32, 64.
+    subroutine test_rates(error)
+        type(error_t), allocatable, intent(out) :: error
+        integer, parameter :: nk = 7
+        real(dp), allocatable :: eps1(:), epsv(:)
+        type(eb_params_t) :: p
+        real(dp) :: qf, reference, err_mid(nk), err_euler(nk), rate
+        integer :: k
+        p = eb_parameters(table3_material(3), pa)
+        qf = eb_failure_deviator(p, 500.0_dp)
+        call triaxial(table3_material(3), 500.0_dp, 0.8_dp*qf, 1, 1024, solver_midpoint, &
+                      eps1, epsv, error)
+        if (allocated(error)) return
+        reference = eps1(1)
+        do k = 1, nk
+            call triaxial(table3_material(3), 500.0_dp, 0.8_dp*qf, 1, 2**(k - 1), &
+                          solver_midpoint, eps1, epsv, error)
+            if (allocated(error)) return
+            err_mid(k) = abs(eps1(1) - reference)
+            call triaxial(table3_material(3), 500.0_dp, 0.8_dp*qf, 1, 2**(k - 1), &
+                          solver_euler, eps1, epsv, error)
+            if (allocated(error)) return
+            err_euler(k) = abs(eps1(1) - reference)
+        end do
+        do k = 1, nk
+            write (*, '(a,i3,a,es10.3,a,es10.3)') '  increments', 2**(k - 1), &
+                ': error midpoint', err_mid(k)/reference, ', Euler', err_euler(k)/reference
+        end do
+        do k = nk - 1, nk
+            rate = log(err_mid(k - 1)/err_mid(k))/log(2.0_dp)
+            call check(error, rate, 2.0_dp, 'midpoint rate', abs=0.3_dp)
+            if (allocated(error)) return
+            rate = log(err_euler(k - 1)/err_euler(k))/log(2.0_dp)
+            call check(error, rate, 1.0_dp, 'Euler rate', abs=0.15_dp)
+            if (allocated(error)) return
+        end do
+    end subroutine test_rates
+end module test_analysis_rockfill
