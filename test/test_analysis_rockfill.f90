@@ -196,11 +196,11 @@ contains
         end function hyperbola
     end subroutine test_volumetric
 
-    !> Load IIIB at 500 kPa to q = 0.6 qf, then unload by 0.1 qf: the unloading slope
-    !> dq / d eps1 is Eur = Kur pa (sigma3/pa)^n (Duncan et al. 1980), exactly, since sigma3
-    !> stays constant. The slope is taken over a second unloading step, after the first has
-    !> absorbed the out-of-balance force that the last loading increment left (with the
-    !> unloading modulus, linear, so none is left after it).
+    !> Load IIIB at 500 kPa to q = 0.8 qf, then unload in three steps of 0.2 qf: below 0.75
+    !> of the past maximum of the stress-state function (q < 0.6 qf at constant sigma3) the
+    !> tangent is Eur = Kur pa (sigma3/pa)^n (Duncan et al. 1980), so the slope dq/d eps1 of
+    !> the third step is Eur, exactly, since sigma3 stays constant (the second step, also
+    !> linear, absorbs the out-of-balance force the transition left).
     subroutine test_unload_reload(error)
         type(error_t), allocatable, intent(out) :: error
         real(dp), allocatable :: eps1(:), epsv(:)
@@ -208,10 +208,10 @@ contains
         real(dp) :: qf, slope
         p = eb_parameters(table3_material(3), pa)
         qf = eb_failure_deviator(p, 500.0_dp)
-        call triaxial(table3_material(3), 500.0_dp, 0.1_dp*qf, 6, 20, solver_midpoint, eps1, &
-                      epsv, error, unload_steps=2)
+        call triaxial(table3_material(3), 500.0_dp, 0.2_dp*qf, 4, 20, solver_midpoint, eps1, &
+                      epsv, error, unload_steps=3)
         if (allocated(error)) return
-        slope = -0.1_dp*qf/(eps1(8) - eps1(7))
+        slope = -0.2_dp*qf/(eps1(7) - eps1(6))
         ! Exact up to the out-of-balance force the midpoint increments leave (about 1e-6 of
         ! the load here): 1e-5.
         call check(error, slope, eb_unload_modulus(p, 500.0_dp), 'unloading slope', &

@@ -160,6 +160,9 @@ class RowMesh:
     groups: dict = field(default_factory=dict)   # material -> element group name
     free: bool = False                   # '&' free format (full precision ends)
     lateral_fixed_x: bool = False        # every node fixed in x (the confined column)
+    layers: int = 0                      # > 0: rows grouped into this many FILL layers
+    layer_increments: int = 1            # increments per FILL stage
+    eb: dict = None                      # material -> E-B (gamma, K, n, Rf, Kb, m, Kur, phi0, dphi)
     # Filled by finalise():
     end_text: list = field(default_factory=list)  # per row: (X1, Y1, X2, Y2) strings
     coords: np.ndarray = None            # (nnode, 2) as cfrd computes them from the cards
@@ -176,6 +179,10 @@ class RowMesh:
 
     def node(self, j, i):
         return j * (self.ncol + 1) + i + 1
+
+    def layer_of_row(self, j):
+        """1-based fill layer of mesh row j (rows split as evenly as possible)."""
+        return j * self.layers // self.nrow + 1
 
     def base_nodes(self):
         return np.arange(1, self.ncol + 2)
@@ -337,29 +344,46 @@ def deck_lines(mesh):
                 i_end += 1
             ne = j * ccol + i + 1
             a = mesh.node(j, i)
+            group = mesh.groups.get(int(m))
+            if mesh.layers:
+                group = f"L{mesh.layer_of_row(j):03d}"
             lines.append(_card([("i", ne), ("i", a), ("i", a + 1), ("i", a + ccol + 2),
                                 ("i", a + ccol + 1), ("i", int(m)), ("i", i_end - i),
-                                ("i", 1), ("a", mesh.groups.get(int(m)))], free))
+                                ("i", 1), ("a", group)], free))
             i = i_end + 1
     lines.append(_header("MATERIALS"))
     for m in sorted(mesh.materials):
         e, nu, gam, label = mesh.materials[m]
+        law = "EB" if mesh.eb else "ELASTIC"
         if free:
-            lines.append(f"&{m}, ELASTIC, {label}")
+            lines.append(f"&{m}, {law}, {label}")
         else:
-            lines.append((fmt_int(m) + fmt_alpha("ELASTIC") + label[:65]).rstrip())
-        lines.append(_card([("r", e), ("r", nu), ("r", gam)], free))
+            lines.append((fmt_int(m) + fmt_alpha(law) + label[:65]).rstrip())
+        if mesh.eb:
+            g, k, n, rf, kb, mm, kur, phi0, dphi = mesh.eb[m]
+            lines.append(_card([("r", g), ("r", k), ("r", n), ("r", rf), ("r", kb), ("r", mm),
+                                ("r", kur)], free))
+            lines.append(_card([("r", phi0), ("r", dphi)], free))
+        else:
+            lines.append(_card([("r", e), ("r", nu), ("r", gam)], free))
     lines.append(_header("BOUNDARY"))
     lines.append(_card([("i", 1), ("i", ccol + 1), ("i", 1), ("i", 1), ("i", 1)], free))
     if mesh.lateral_fixed_x:
         lines.append(_card([("i", ccol + 2), ("i", mesh.nnode), ("i", 1), ("i", 1),
                             ("i", 0)], free))
-    lines.append(_header("LOADS"))
-    if free:
-        lines.append("&GRAVITY, , 0.0, -1.0")
+    if mesh.layers:
+        # Layer by layer: each FILL stage places one layer under its own weight.
+        lines.append(_header("STAGES"))
+        for k in range(1, mesh.layers + 1):
+            lines.append(_card([("a", "FILL"), ("a", f"L{k:03d}"), ("i", mesh.layer_increments)],
+                               free))
     else:
-        lines.append((fmt_alpha("GRAVITY") + fmt_alpha("") + fmt_real(0.0)
-                      + fmt_real(-1.0)).rstrip())
+        lines.append(_header("LOADS"))
+        if free:
+            lines.append("&GRAVITY, , 0.0, -1.0")
+        else:
+            lines.append((fmt_alpha("GRAVITY") + fmt_alpha("") + fmt_real(0.0)
+                          + fmt_real(-1.0)).rstrip())
     lines.append(_header("END"))
     return [ln.rstrip() for ln in lines]
 
@@ -662,6 +686,11 @@ def main(argv=None):
     ap.add_argument("--ccx", help="CalculiX .inp to write (same mesh)")
     ap.add_argument("--free", action="store_true", help="'&' free format, full precision")
     ap.add_argument("--ratio", type=float, default=2.5, help="ncol/nrow (default 2.5)")
+    ap.add_argument("--layers", type=int, default=0,
+                    help="build in this many layers (FILL stages) instead of one load step")
+    ap.add_argument("--increments", type=int, default=1, help="increments per layer")
+    ap.add_argument("--eb", action="store_true",
+                    help="homogeneous IIIB rockfill, Duncan-Chang E-B (paper Table 3)")
     ap.add_argument("--selftest", action="store_true")
     args = ap.parse_args(argv)
     if args.selftest:
@@ -670,6 +699,18 @@ def main(argv=None):
         ap.error("give --deck and/or --ccx")
     try:
         mesh = embankment_mesh(args.elements, free=args.free, ratio=args.ratio)
+        if args.layers:
+            if args.layers > mesh.nrow:
+                ap.error(f"--layers {args.layers} exceeds the {mesh.nrow} element rows")
+            mesh.layers = args.layers
+            mesh.layer_increments = args.increments
+        if args.eb:
+            # IIIB of Table 3: density 2100 kg/m3 -> 20.601 kN/m3; Kur = 2K [choice].
+            iiib = (2100 * 9.81 / 1000, 564.0, 0.35, 0.85, 204.0, 0.18, 1128.0, 51.0, 13.0)
+            mesh.eb = {1: iiib, 2: iiib}
+            mesh.materials = {m: (0.0, 0.0, iiib[0], "IIIB rockfill (E-B, Table 3)")
+                              for m in mesh.materials}
+            mesh.title = f"Homogeneous IIIB E-B embankment, {mesh.nrow}x{mesh.ncol} quads"
         if args.deck:
             write_cfrd_deck(mesh, args.deck)
     except FieldOverflow as exc:

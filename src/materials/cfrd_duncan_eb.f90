@@ -15,6 +15,12 @@ module cfrd_duncan_eb
     !> Upper bound of the tangent Poisson ratio: Bt <= Et / (3 (1 - 2 nu_t_max)).
     real(dp), parameter :: nu_t_max = 0.49_dp
     real(dp), parameter :: deg = 0.017453292519943295769_dp
+    !> Width of the loading-to-unloading transition, as a fraction of the past maximum of
+    !> the stress-state function.
+    real(dp), parameter :: transition = 0.25_dp
+    !> Below this past maximum of SS a point counts as loading: near-isotropic states, whose
+    !> stress level is round-off, would otherwise flip between the branches at random.
+    real(dp), parameter :: ss_threshold = 0.01_dp
 
     !> Parameters of one E-B material (kPa, degrees, dimensionless).
     type :: eb_params_t
@@ -104,23 +110,28 @@ contains
     !> positive) with `ss_max`, the past maximum of the stress-state function at this point:
     !> Et of eq. 19 when loading, Eur when SS < ss_max, Bt of eq. 21 bounded so that the
     !> tangent Poisson ratio stays in [0, 0.49]. Finite and positive definite for any stress.
+    !> (`unloading` in `state` is true once SS is below its past maximum.)
     pure subroutine eb_tangent(p, stress, ss_max, d, state)
         type(eb_params_t), intent(in) :: p
         real(dp), intent(in) :: stress(4), ss_max
         real(dp), intent(out) :: d(4, 4)
         type(eb_state_t), intent(out), optional :: state
-        real(dp) :: sigma1, sigma3, s3, level, et, bt, nu_t, ss
+        real(dp) :: sigma1, sigma3, s3, level, et, bt, nu_t, ss, weight
         logical :: unloading
         call eb_principal(stress, sigma1, sigma3)
         s3 = max(sigma3, p%sigma3_floor)
         level = stress_level(p, sigma1, sigma3)
         ss = level*sqrt(sqrt(s3/p%pa))
-        ! A small margin keeps round-off in a reloading point from flipping the branch.
-        unloading = ss < ss_max*(1.0_dp - 1.0e-9_dp)
-        if (unloading) then
-            et = eb_unload_modulus(p, s3)
-        else
-            et = eb_initial_modulus(p, s3)*(1.0_dp - p%rf*level)**2
+        ! Loading (SS at its past maximum): Et of eq. 19. Unloading: the modulus moves
+        ! linearly from Et to Eur as SS falls from its past maximum to 0.75 of it, and is Eur
+        ! below (the transition of Duncan et al. 1980). A sharp switch makes the incremental
+        ! solution chatter between the branches (docs/theory.md section 8).
+        et = eb_initial_modulus(p, s3)*(1.0_dp - p%rf*level)**2
+        unloading = .false.
+        if (ss_max > ss_threshold .and. ss < ss_max) then
+            weight = min(1.0_dp, (ss_max - ss)/(transition*ss_max))
+            et = et + weight*max(eb_unload_modulus(p, s3) - et, 0.0_dp)
+            unloading = weight > 0.0_dp
         end if
         bt = p%kb*p%pa*(s3/p%pa)**p%m
         bt = min(max(bt, et/3.0_dp), et/(3.0_dp*(1.0_dp - 2.0_dp*nu_t_max)))
