@@ -4,7 +4,7 @@
 SHELL := /bin/bash
 .DEFAULT_GOAL := run
 
-DECK ?= inputs/embankment.dat
+DECK ?= inputs/embankment-eb.dat
 APT_PACKAGES := gfortran libsuitesparse-dev libhdf5-dev liblapack-dev libblas-dev \
                 pkg-config calculix-ccx libopenblas0-pthread
 PIP_PACKAGES := fpm numpy matplotlib h5py

@@ -13,7 +13,7 @@ module cfrd_stage_driver
     use cfrd_sparse, only: sparse_pattern_t, build_pattern
     use cfrd_umfpack, only: umfpack_t
     use cfrd_principal, only: principal_stresses
-    use cfrd_material_law, only: nhistory, is_linear, update_history
+    use cfrd_material_law, only: nhistory, is_linear, update_history, stress_level
     use cfrd_assembly, only: element_box_t, dof_map_t, make_elements, number_equations, &
                              load_set_forces, fill_forces, assemble_tangent, internal_forces, &
                              element_tangents, gather
@@ -493,9 +493,20 @@ contains
         type(stage_result_t), intent(inout) :: result
         real(dp), allocatable :: f_int(:, :)
         logical, allocatable :: used(:)
-        integer :: e
+        integer :: e, ig
         associate (mesh => model%mesh)
             result%active = state%active
+            allocate (result%stress_level(mesh%nelem), source=0.0_dp)
+            do e = 1, mesh%nelem
+                if (.not. state%active(e)) cycle
+                do ig = 1, ngauss
+                    result%stress_level(e) = max(result%stress_level(e), stress_level( &
+                        model%materials(mesh%material(e)), model%pa, state%stress(:, ig, e), &
+                        state%history(:, ig, e)))
+                end do
+            end do
+            ! Near failure: stress level 0.95 or more (the law caps it at 0.99).
+            result%near_failure = count(result%stress_level >= 0.95_dp)
             result%displacement = state%u
             result%stress_gauss = state%stress
             allocate (result%stress_centroid(4, mesh%nelem), result%principal(3, mesh%nelem))

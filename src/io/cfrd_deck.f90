@@ -1015,6 +1015,8 @@ contains
                     end if
                     filled(g) = .true.
                     stage%group = g
+                    stage%label = 'FILL '//trim(model%mesh%group_name(g))// &
+                                  stage%label(5:)
                 case ('LOAD')
                     stage%kind = stage_load
                     call get_text(card, stage_fields, 6, name)
@@ -1029,6 +1031,7 @@ contains
                                          'LOADS group', name)
                         return
                     end if
+                    if (len(name) > 0) stage%label = 'LOAD '//name//stage%label(5:)
                 case ('RESET')
                     stage%kind = stage_reset
                 case default

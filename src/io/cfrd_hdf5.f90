@@ -89,6 +89,9 @@ contains
                 call attr_real(stage_id, 'max_residual', [stage%max_residual], st)
                 call attr_real(stage_id, 'wall_time', [stage%wall_time], st)
                 call dataset_int1(stage_id, 'active', merge(1, 0, stage%active), st)
+                call attr_int(stage_id, 'near_failure', stage%near_failure, st)
+                call dataset_real1(stage_id, 'stress_level', stage%stress_level, '-', &
+                                   'largest Gauss-point stress level of the element', st)
                 call dataset_real2(stage_id, 'displacement', stage%displacement, 'm', &
                                    'ux, uy', st)
                 call dataset_real2(stage_id, 'reaction', stage%reaction, 'kN/m', 'rx, ry', st)
@@ -224,6 +227,21 @@ contains
         call h5dwrite_f(dset_id, H5T_NATIVE_DOUBLE, values, dims, hdferr)
         call finish_dataset(dset_id, name, hdferr, units, components, st)
     end subroutine dataset_real3
+
+    subroutine dataset_real1(loc, name, values, units, components, st)
+        integer(hid_t), intent(in) :: loc
+        character(len=*), intent(in) :: name, units, components
+        real(dp), intent(in) :: values(:)
+        type(h5_state_t), intent(inout) :: st
+        integer(hid_t) :: dset_id
+        integer(hsize_t) :: dims(1)
+        integer :: hdferr
+        dims = shape(values, kind=hsize_t)
+        call create_dataset(loc, name, H5T_NATIVE_DOUBLE, dims, dset_id, st)
+        if (dset_id < 0) return
+        call h5dwrite_f(dset_id, H5T_NATIVE_DOUBLE, values, dims, hdferr)
+        call finish_dataset(dset_id, name, hdferr, units, components, st)
+    end subroutine dataset_real1
 
     subroutine dataset_int1(loc, name, values, st)
         integer(hid_t), intent(in) :: loc

@@ -112,21 +112,23 @@ contains
         integer :: s, node_s, node_x, node_xm
         write (unit, '(/,a,/,a,/,a)') rule, ' STAGES', rule
         write (unit, '(a)') '  STAGE LABEL                      ACTIVE INC FACT ITER   '// &
-            'MAX RESID  MAX SETTL (m)   NODE     MAX UX (m)   NODE     MIN UX (m)   NODE'
+            'MAX RESID  MAX SETTL (m)   NODE     MAX UX (m)   NODE     MIN UX (m)   NODE'// &
+            '  S>=0.95'
         do s = 1, size(results%stages)
             associate (st => results%stages(s))
                 node_s = minloc(st%displacement(2, :), dim=1)
                 node_x = maxloc(st%displacement(1, :), dim=1)
                 node_xm = minloc(st%displacement(1, :), dim=1)
-                write (unit, '(i7,1x,a26,i7,i4,i5,i5,es12.3,3(es15.5,i7))') s, st%name, &
+                write (unit, '(i7,1x,a26,i7,i4,i5,i5,es12.3,3(es15.5,i7),i9)') s, st%name, &
                     count(st%active), st%increments, st%factorisations, st%iterations, &
                     st%max_residual, -st%displacement(2, node_s), node_s, &
-                    st%displacement(1, node_x), node_x, st%displacement(1, node_xm), node_xm
+                    st%displacement(1, node_x), node_x, st%displacement(1, node_xm), node_xm, &
+                    st%near_failure
             end associate
         end do
         write (unit, '(a,i0,a)') '  (', model%mesh%nelem, ' elements in the mesh; displacements'// &
             ' since the last RESET; MAX RESID = |out-of-balance force| / |load| after an'// &
-            ' increment)'
+            ' increment; S>=0.95: elements near failure)'
     end subroutine write_stage_table
 
     subroutine write_stage(unit, model, stage, number)

@@ -29,6 +29,8 @@ module cfrd_results
         real(dp) :: max_residual = 0.0_dp          !! largest |residual| / |load| after an increment
         real(dp) :: wall_time = 0.0_dp             !! s
         logical, allocatable :: active(:)          !! (nelem) element active at the stage's end
+        real(dp), allocatable :: stress_level(:)   !! (nelem) largest Gauss-point stress level
+        integer :: near_failure = 0                !! elements with stress level >= 0.95
         real(dp), allocatable :: displacement(:, :)   !! (2, nnode) m
         real(dp), allocatable :: reaction(:, :)       !! (2, nnode) kN/m, zero at free dofs
         real(dp), allocatable :: stress_gauss(:, :, :) !! (4, ngauss=4, nelem) kPa
