@@ -77,6 +77,8 @@ cases = [
  ("title-data-card", sub("TITLE     bad deck\n", "TITLE     bad deck\n    1\n"), "{f}:3: TITLE takes no data cards"),
  ("control-two-cards", sub("    6    2    1\n", "    6    2    1\n    6    2    1\n"), "{f}:3: CONTROL takes one data card (or none for all defaults), found 2"),
  ("value-without-code", sub("    1    3    1    1    1\n", "    1    3    1    0    1       0.1\n"), "{f}:14:26-35: field UX of BOUNDARY 1: expected blank: a prescribed value needs IX = 1, found '0.1'"),
+ ("unknown-load-set", sub("GRAVITY\n", "GRAVITY\nSTAGES\n&LOAD, WIND\n"), "{f}:18:8-11: field SET of STAGES LOAD: expected blank (the unnamed LOADS) or the name of a LOADS group, found 'WIND'"),
+ ("unknown-fill-group", sub("GRAVITY\n", "GRAVITY\nSTAGES\nFILL      ROCK\n"), "{f}:18:11-20: field GROUP of STAGES FILL: expected an element group (SOIL), found 'ROCK'"),
  ("node-beyond-nnode", sub("    4    6    1       0.0", "    4    8    2       0.0"), "{f}:7:6-10: field N2 of NODES: expected a last node from N1 = 4 to 6, found '8'"),
 ]
 for old in os.listdir(P):

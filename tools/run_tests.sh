@@ -70,14 +70,17 @@ then pass cli/out-dir-and-quiet; else fail "cli/out-dir-and-quiet: $(head -c 200
 tools/cli_failure_test.sh "$cfrd" "$work/failure" && pass cli/failed-run-keeps-results ||
     fail cli/failed-run-keeps-results
 
-# 3. The independent peer: CalculiX checked on a closed form, then on the same embankment.
-for args in "--column" "--elements 1000"; do
-    python3 tools/ccx_peer.py --cfrd "$cfrd" $args --workdir "$work/peer" >"$work/peer.txt" 2>&1
-    status=$?
-    lines=$(grep -E '^(PASS|FAIL) ' "$work/peer.txt")
+# 3. Checks run by tools: each prints PASS/FAIL lines; every line counts.
+tool_checks() { # name command...
+    local name=$1
+    shift
+    "$@" >"$work/tool.txt" 2>&1
+    local status=$?
+    local lines
+    lines=$(grep -E '^(PASS|FAIL) ' "$work/tool.txt")
     if [[ -z $lines ]]; then
-        fail "peer $args: no verdict (exit $status): $(tail -3 "$work/peer.txt")"
-        continue
+        fail "$name: no verdict (exit $status): $(tail -3 "$work/tool.txt")"
+        return
     fi
     while IFS= read -r line; do
         case $line in
@@ -85,8 +88,17 @@ for args in "--column" "--elements 1000"; do
             FAIL*) fail "${line#FAIL }" ;;
         esac
     done <<<"$lines"
-    [[ $status -eq 0 ]] || grep -q '^FAIL ' "$work/peer.txt" || fail "peer $args: exit $status"
-done
+    [[ $status -eq 0 ]] || grep -q '^FAIL ' "$work/tool.txt" || fail "$name: exit $status"
+}
+# The independent peer: CalculiX checked on a closed form, then on the same embankment.
+tool_checks "peer --column" python3 tools/ccx_peer.py --cfrd "$cfrd" --column --workdir "$work/peer"
+tool_checks "peer --elements 1000" python3 tools/ccx_peer.py --cfrd "$cfrd" --elements 1000 \
+    --workdir "$work/peer"
+# The E-B law: scipy's integration of it, checked on Kondner's hyperbola, then against
+# cfrd's plane-strain compression of two Table 3 materials.
+tool_checks "eb reference" python3 tools/eb_reference.py --selftest
+tool_checks "eb plane strain" python3 tools/eb_reference.py --check-cfrd "$cfrd" \
+    --workdir "$work/eb"
 
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

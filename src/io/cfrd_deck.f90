@@ -93,13 +93,19 @@ module cfrd_deck
                                 field_t('DPHI', 11, 10, real_field), &
                                 field_t('C', 21, 10, real_field), &
                                 field_t('SIG3MIN', 31, 10, real_field)]
-    type(field_t), parameter :: stage_fields(6) = [ &
+    type(field_t), parameter :: stage_fields(5) = [ &
                                 field_t('KEYWORD', 1, 10, text_field), &
                                 field_t('GROUP', 11, 10, text_field), &
                                 field_t('NINC', 21, 5, int_field), &
                                 field_t('DATE', 26, 10, text_field), &
-                                field_t('LABEL', 36, 45, text_field), &
-                                field_t('SET', 11, 10, text_field)]
+                                field_t('LABEL', 36, 45, text_field)]
+    !> A LOAD stage card: the same columns, field 2 naming a load set.
+    type(field_t), parameter :: load_stage_fields(5) = [ &
+                                field_t('KEYWORD', 1, 10, text_field), &
+                                field_t('SET', 11, 10, text_field), &
+                                field_t('NINC', 21, 5, int_field), &
+                                field_t('DATE', 26, 10, text_field), &
+                                field_t('LABEL', 36, 45, text_field)]
     type(field_t), parameter :: boundary_fields(7) = [ &
                                 field_t('N1', 1, 5, int_field), &
                                 field_t('N2', 6, 5, int_field), &
@@ -1019,14 +1025,14 @@ contains
                                   stage%label(5:)
                 case ('LOAD')
                     stage%kind = stage_load
-                    call get_text(card, stage_fields, 6, name)
+                    call get_text(card, load_stage_fields, 2, name)
                     name = upper(name)
                     stage%load_set = 0
                     do k = 1, size(model%load_sets)
                         if (model%load_sets(k)%name == name) stage%load_set = k
                     end do
                     if (stage%load_set == 0) then
-                        call field_error(error, file, card, stage_fields, 6, ctx, &
+                        call field_error(error, file, card, load_stage_fields, 2, ctx, &
                                          'blank (the unnamed LOADS) or the name of a '// &
                                          'LOADS group', name)
                         return
