@@ -312,7 +312,8 @@ contains
                                      rtoa(model%tolerance)//')', numerical_error)
                     return
                 end if
-                call factorise_at(model, library, state, stress_end, system, result, context, &
+                ! The tangent of the midpoint stress update is that at its midpoint.
+                call factorise_at(model, library, state, stress_mid, system, result, context, &
                                   error)
                 if (allocated(error)) return
                 block
