@@ -317,16 +317,30 @@ contains
                                   error)
                 if (allocated(error)) return
                 block
-                    real(dp), allocatable :: ddu(:, :)
+                    real(dp), allocatable :: ddu(:, :), du_try(:, :), stress_try(:, :, :)
+                    real(dp) :: step, trial
+                    integer :: halving
                     call solve_out_of_balance(model, library, state, stress_end, f_target, &
                                               0.0_dp*du_prescribed, system, ddu, result, &
                                               context, error)
                     if (allocated(error)) return
-                    du = du + ddu
+                    ! Backtracking line search: the E-B tangent has kinks (stress-level cap,
+                    ! sigma3 floor, Poisson bounds, unloading transition) where a full
+                    ! Newton step can overshoot; halve it while the residual grows.
+                    step = 1.0_dp
+                    do halving = 0, 6
+                        du_try = du + step*ddu
+                        call integrate_stress(model, library, state, du_try, stress_try, &
+                                              stress_mid, .true.)
+                        trial = out_of_balance(model, library, state%active, stress_try, &
+                                               f_target, system%dofmap)/load_norm
+                        if (trial < residual) exit
+                        step = 0.5_dp*step
+                    end do
+                    du = du_try
+                    stress_end = stress_try
+                    residual = trial
                 end block
-                call integrate_stress(model, library, state, du, stress_end, stress_mid, .true.)
-                residual = out_of_balance(model, library, state%active, stress_end, f_target, &
-                                          system%dofmap)/load_norm
                 result%iterations = result%iterations + 1
             end do
         end if
