@@ -30,9 +30,12 @@ build: deps
 	@$(call fpm,install,release,$(RELEASE_FLAGS)) --prefix "$(CURDIR)" --bindir bin \
 	  >build/release.log 2>&1 || { cat build/release.log; exit 1; }
 
-## build-debug: debug build with every runtime check, program at build/debug-bin/cfrd
+## build-debug: debug build with every runtime check, program at build/debug-bin/cfrd.
+## It starts from scratch: fpm 0.12 can miss a changed derived type in a module that others
+## use and link stale objects; a clean debug build takes seconds.
 build-debug: deps
 	@mkdir -p build
+	@rm -rf build/gfortran_* build/cache.toml
 	@$(call fpm,install,debug,$(DEBUG_FLAGS)) --prefix "$(CURDIR)/build" --bindir debug-bin \
 	  >build/debug.log 2>&1 || { cat build/debug.log; exit 1; }
 

@@ -87,10 +87,11 @@ contains
     subroutine print_progress(number, total, stage)
         integer, intent(in) :: number, total
         type(stage_result_t), intent(in) :: stage
-        write (output_unit, '(a,i0,a,i0,2a,i0,a,i0,a,i0,a,es9.2,a,f8.3,a)') '  stage ', number, &
-            '/', total, ': ', stage%name//', ', stage%increments, ' increments, ', &
-            stage%factorisations, ' factorisations, ', stage%iterations, &
-            ' iterations, residual', stage%max_residual, ',', stage%wall_time, ' s'
+        write (output_unit, '(a,i0,a,i0,2a,i0,a,i0,a,i0,a,i0,a,es9.2,a,f8.3,a)') '  stage ', &
+            number, '/', total, ': ', stage%name//', ', stage%increments, ' increments, ', &
+            stage%factorisations, ' factorisations, ', stage%iterations, ' iterations, ', &
+            stage%cutbacks, ' cutbacks, residual', stage%max_residual, ',', stage%wall_time, &
+            ' s'
         flush (output_unit)
     end subroutine print_progress
 

@@ -8,7 +8,7 @@ module test_analysis_rockfill
     use cfrd_testing, only: unittest_t, new_unittest, check
     use cfrd_model, only: model_t, material_t, load_set_t, pressure_load_t, stage_t, &
                           stage_load, stage_reset, axisymmetric, law_duncan_eb, &
-                          solver_midpoint, solver_euler
+                          solver_midpoint, solver_euler, solver_newton
     use cfrd_results, only: results_t
     use cfrd_linear_static, only: solve_linear_static
     use cfrd_duncan_eb, only: eb_params_t, eb_initial_modulus, eb_failure_deviator, &
@@ -41,7 +41,8 @@ contains
                 new_unittest('triaxial_kondner_hyperbola', test_kondner), &
                 new_unittest('triaxial_volumetric_strain', test_volumetric), &
                 new_unittest('unload_reload_slope', test_unload_reload), &
-                new_unittest('midpoint_second_order_euler_first', test_rates) &
+                new_unittest('midpoint_second_order_euler_first', test_rates), &
+                new_unittest('newton_triaxial_with_unloading', test_newton) &
                 ]
     end subroutine collect_analysis_rockfill
 
@@ -259,4 +260,29 @@ contains
             if (allocated(error)) return
         end do
     end subroutine test_rates
+
+    !> Newton iterations (consistent tangent, tolerance 1e-11) on the triaxial test of IIIB at
+    !> 500 kPa: the loading branch follows Kondner's hyperbola to 0.2 % and, after unloading
+    !> below 0.75 of the past stress state, the slope is Eur (closed forms as above).
+    subroutine test_newton(error)
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), allocatable :: eps1(:), epsv(:)
+        type(eb_params_t) :: p
+        real(dp) :: qf, ei, q
+        integer :: s
+        p = eb_parameters(table3_material(3), pa)
+        qf = eb_failure_deviator(p, 500.0_dp)
+        ei = eb_initial_modulus(p, 500.0_dp)
+        call triaxial(table3_material(3), 500.0_dp, 0.2_dp*qf, 4, 40, solver_newton, eps1, &
+                      epsv, error, unload_steps=3)
+        if (allocated(error)) return
+        do s = 1, 4
+            q = 0.2_dp*qf*s
+            call check(error, eps1(s), q/(ei*(1.0_dp - p%rf*q/qf)), 'Newton: eps1 on loading', &
+                       rel=2.0e-3_dp)
+            if (allocated(error)) return
+        end do
+        call check(error, -0.2_dp*qf/(eps1(7) - eps1(6)), eb_unload_modulus(p, 500.0_dp), &
+                   'Newton: unloading slope', rel=1.0e-5_dp)
+    end subroutine test_newton
 end module test_analysis_rockfill

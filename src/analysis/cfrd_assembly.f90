@@ -203,13 +203,17 @@ contains
 
     !> Assemble the tangent stiffness of the active elements at the given Gauss-point
     !> stresses (4, ngauss, nelem) and history (nhistory, ngauss, nelem) into `values`.
-    subroutine assemble_tangent(model, library, active, pattern, stress, history, values)
+    !> With `tangents` (4, 4, ngauss, nelem) given, those matrices are used instead of the
+    !> material tangent (Newton's consistent tangent).
+    subroutine assemble_tangent(model, library, active, pattern, stress, history, values, &
+                                tangents)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         logical, intent(in) :: active(:)
         type(sparse_pattern_t), intent(in) :: pattern
         real(dp), intent(in) :: stress(:, :, :), history(:, :, :)
         real(dp), intent(out) :: values(:)
+        real(dp), intent(in), optional :: tangents(:, :, :, :)
         real(dp) :: ke(16, 16), dmat(4, 4, 4)
         integer :: e, nn, ng
         values = 0.0_dp
@@ -219,8 +223,12 @@ contains
                 associate (element => library(mesh%kind(e))%element)
                     nn = element%nodes()
                     ng = element%gauss_points()
-                    call element_tangents(model, e, stress(:, 1:ng, e), &
-                                          history(1:nhistory, 1:ng, e), dmat(:, :, 1:ng))
+                    if (present(tangents)) then
+                        dmat(:, :, 1:ng) = tangents(:, :, 1:ng, e)
+                    else
+                        call element_tangents(model, e, stress(:, 1:ng, e), &
+                                              history(1:nhistory, 1:ng, e), dmat(:, :, 1:ng))
+                    end if
                     call element%stiffness(mesh%x(:, mesh%conn(1:nn, e)), dmat(:, :, 1:ng), &
                                            ke(1:2*nn, 1:2*nn))
                     call assemble_element(pattern, values, e, ke(1:2*nn, 1:2*nn))

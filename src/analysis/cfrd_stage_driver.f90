@@ -13,7 +13,8 @@ module cfrd_stage_driver
     use cfrd_sparse, only: sparse_pattern_t, build_pattern
     use cfrd_umfpack, only: umfpack_t
     use cfrd_principal, only: principal_stresses
-    use cfrd_material_law, only: nhistory, is_linear, update_history, stress_level
+    use cfrd_material_law, only: nhistory, is_linear, update_history, stress_level, &
+                                 material_tangent
     use cfrd_assembly, only: element_box_t, dof_map_t, make_elements, number_equations, &
                              load_set_forces, fill_forces, assemble_tangent, internal_forces, &
                              element_tangents, gather
@@ -115,8 +116,7 @@ contains
         real(dp), allocatable :: stage_force(:, :), f_start(:, :), du_prescribed(:, :)
         logical, allocatable :: was_used(:)
         real(dp) :: t0, t1
-        integer :: inc, nodes_before
-        character(len=:), allocatable :: context
+        integer :: nodes_before
 
         t0 = wall_seconds()
         associate (stage => model%stages(s), mesh => model%mesh)
@@ -153,15 +153,10 @@ contains
                 result%stats%neq = system%pattern%n
                 result%stats%nnz = system%pattern%nnz
                 f_start = state%f_ext
-                do inc = 1, stage%increments
-                    context = 'stage '//itoa(s)//' ('//stage%label//'), increment '// &
-                            itoa(inc)//' of '//itoa(stage%increments)
-                    call solve_increment(model, library, state, system, &
-                                         f_start + stage_force*(real(inc, dp)/stage%increments), &
-                                         du_prescribed, result, context, error)
-                    if (allocated(error)) return
-                end do
-                result%increments = stage%increments
+                call run_increments(model, library, state, system, f_start, stage_force, &
+                                    du_prescribed*stage%increments, stage%increments, s, &
+                                    stage%label, result, error)
+                if (allocated(error)) return
                 ! New layer's own nodes: their displacement during placement is not counted
                 ! (NEWTOP = 0, docs/theory.md section 9).
                 if (stage%kind == stage_fill .and. model%newtop == newtop_zero) then
@@ -174,6 +169,64 @@ contains
             result%wall_time = wall_seconds() - t0
         end associate
     end subroutine run_stage
+
+    !> The stage's load in `n` equal increments. An increment whose Newton iterations do not
+    !> converge is cut in half and retried, at most `max_cutbacks` times in a row; after a
+    !> success the step grows back towards the nominal one. Cutbacks are counted in the
+    !> stage's result.
+    subroutine run_increments(model, library, state, system, f_start, stage_force, &
+                              du_stage, n, s, label, result, error)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        type(state_t), intent(inout) :: state
+        type(system_t), intent(inout) :: system
+        real(dp), intent(in) :: f_start(:, :), stage_force(:, :), du_stage(:, :)
+        integer, intent(in) :: n, s
+        character(len=*), intent(in) :: label
+        type(stage_result_t), intent(inout) :: result
+        type(error_t), allocatable, intent(out) :: error
+        integer, parameter :: max_cutbacks = 6
+        real(dp) :: done, step, nominal
+        integer :: cuts, k
+        character(len=:), allocatable :: context
+        nominal = 1.0_dp/n
+        step = nominal
+        done = 0.0_dp
+        cuts = 0
+        k = 0
+        do while (done < 1.0_dp - 1.0e-12_dp)
+            step = min(step, 1.0_dp - done)
+            k = k + 1
+            context = 'stage '//itoa(s)//' ('//label//'), increment '//itoa(k)// &
+                      ' (load fraction '//ftoa(done)//' to '//ftoa(done + step)//')'
+            call solve_increment(model, library, state, system, &
+                                 f_start + stage_force*(done + step), du_stage*step, result, &
+                                 context, error)
+            if (allocated(error)) then
+                if (index(error%message, 'no convergence') == 0 .or. &
+                    cuts == max_cutbacks) return
+                ! Nothing of the state changed: retry the increment in two halves.
+                deallocate (error)
+                cuts = cuts + 1
+                result%cutbacks = result%cutbacks + 1
+                step = 0.5_dp*step
+                k = k - 1
+                cycle
+            end if
+            done = done + step
+            result%increments = result%increments + 1
+            cuts = 0
+            step = min(2.0_dp*step, nominal)
+        end do
+    end subroutine run_increments
+
+    pure function ftoa(x) result(text)
+        real(dp), intent(in) :: x
+        character(len=:), allocatable :: text
+        character(len=16) :: buffer
+        write (buffer, '(f8.5)') x
+        text = trim(adjustl(buffer))
+    end function ftoa
 
     pure function node_in_use(model, active) result(used)
         type(model_t), intent(in) :: model
@@ -206,7 +259,8 @@ contains
 
     !> Assemble the tangent at the given stresses and factorise it (numeric phase only while
     !> the pattern holds). A constant (linear elastic) tangent is factorised once per system.
-    subroutine factorise_at(model, library, state, stress, system, result, context, error)
+    subroutine factorise_at(model, library, state, stress, system, result, context, error, &
+                            tangents)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(in) :: state
@@ -215,13 +269,14 @@ contains
         type(stage_result_t), intent(inout) :: result
         character(len=*), intent(in) :: context
         type(error_t), allocatable, intent(out) :: error
+        real(dp), intent(in), optional :: tangents(:, :, :, :)
         real(dp) :: t0, t1
         logical :: linear
         linear = all_linear(model, state%active)
         if (linear .and. system%factorised_linear) return
         t0 = wall_seconds()
         call assemble_tangent(model, library, state%active, system%pattern, stress, &
-                              state%history, system%values)
+                              state%history, system%values, tangents)
         t1 = wall_seconds()
         result%stats%t_assembly = result%stats%t_assembly + (t1 - t0)
         if (.not. system%analysed) then
@@ -276,7 +331,7 @@ contains
         character(len=*), intent(in) :: context
         type(error_t), allocatable, intent(out) :: error
         real(dp), allocatable :: du(:, :), stress_end(:, :, :), stress_mid(:, :, :)
-        real(dp) :: residual, load_norm
+        real(dp) :: residual, load_norm, recent
         integer :: iteration
 
         load_norm = max(norm2(f_target), tiny(1.0_dp))
@@ -303,8 +358,22 @@ contains
                                   system%dofmap)/load_norm
         if (model%solver == solver_newton) then
             iteration = 0
+            recent = huge(1.0_dp)
             do while (residual > model%tolerance)
                 iteration = iteration + 1
+                ! A stall (the residual not halved over the last four iterations) ends the
+                ! iterations early, so that a cutback can be tried without waste.
+                if (mod(iteration, 4) == 1) then
+                    if (iteration > 1 .and. residual > 0.5_dp*recent) then
+                        call fatal_error(error, context//': no convergence: Newton '// &
+                                         'iterations stalled at iteration '// &
+                                         itoa(iteration - 1)//' (relative residual '// &
+                                         rtoa(residual)//', tolerance '// &
+                                         rtoa(model%tolerance)//')', numerical_error)
+                        return
+                    end if
+                    recent = residual
+                end if
                 if (iteration > model%max_iterations) then
                     call fatal_error(error, context//': no convergence after '// &
                                      itoa(model%max_iterations)//' Newton iterations '// &
@@ -312,9 +381,10 @@ contains
                                      rtoa(model%tolerance)//')', numerical_error)
                     return
                 end if
-                ! The tangent of the midpoint stress update is that at its midpoint.
+                ! The consistent tangent: the derivative of the midpoint stress update with
+                ! respect to the strain increment, by finite differences at each point.
                 call factorise_at(model, library, state, stress_mid, system, result, context, &
-                                  error)
+                                  error, consistent_tangents(model, library, state, du))
                 if (allocated(error)) return
                 block
                     real(dp), allocatable :: ddu(:, :), du_try(:, :), stress_try(:, :, :)
@@ -472,6 +542,53 @@ contains
             end do
         end associate
     end function stress_after
+
+    !> d sigma_end / d(delta eps) of the midpoint stress update at every Gauss point of the
+    !> active elements, by forward differences (step sqrt(eps) of the strain increment): the
+    !> tangent that makes Newton's iterations converge fast on the E-B law, whose tangent
+    !> changes along an increment (docs/theory.md section 9). Not symmetric in general.
+    function consistent_tangents(model, library, state, du) result(c)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        type(state_t), intent(in) :: state
+        real(dp), intent(in) :: du(:, :)
+        real(dp), allocatable :: c(:, :, :, :)
+        real(dp) :: strain(4, ngauss), base(4), h, de(4)
+        integer :: e, nn, ig, j
+        allocate (c(4, 4, ngauss, model%mesh%nelem), source=0.0_dp)
+        associate (mesh => model%mesh)
+            do e = 1, mesh%nelem
+                if (.not. state%active(e)) cycle
+                associate (element => library(mesh%kind(e))%element, &
+                           mat => model%materials(mesh%material(e)))
+                    nn = element%nodes()
+                    call element%strains(mesh%x(:, mesh%conn(1:nn, e)), &
+                                         gather(model, e, nn, du), strain)
+                    do ig = 1, ngauss
+                        base = midpoint_update(strain(:, ig))
+                        h = 1.5e-8_dp*max(maxval(abs(strain(:, ig))), 1.0e-9_dp)
+                        do j = 1, 4
+                            de = strain(:, ig)
+                            de(j) = de(j) + h
+                            c(:, j, ig, e) = (midpoint_update(de) - base)/h
+                        end do
+                    end do
+                end associate
+            end do
+        end associate
+    contains
+        !> sigma_n + D(sigma_n + D(sigma_n) de/2) de at Gauss point ig of element e.
+        function midpoint_update(de) result(sig)
+            real(dp), intent(in) :: de(4)
+            real(dp) :: sig(4), d(4, 4), half(4)
+            call material_tangent(model%materials(model%mesh%material(e)), model%pa, &
+                                  state%stress(:, ig, e), state%history(:, ig, e), d)
+            half = state%stress(:, ig, e) + 0.5_dp*matmul(d, de)
+            call material_tangent(model%materials(model%mesh%material(e)), model%pa, half, &
+                                  state%history(:, ig, e), d)
+            sig = state%stress(:, ig, e) + matmul(d, de)
+        end function midpoint_update
+    end function consistent_tangents
 
     !> |f_target - f_int(stress)| over the free dofs.
     function out_of_balance(model, library, active, stress, f_target, dofmap) result(norm)

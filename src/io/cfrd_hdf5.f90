@@ -86,6 +86,7 @@ contains
                 call attr_int(stage_id, 'increments', stage%increments, st)
                 call attr_int(stage_id, 'factorisations', stage%factorisations, st)
                 call attr_int(stage_id, 'iterations', stage%iterations, st)
+                call attr_int(stage_id, 'cutbacks', stage%cutbacks, st)
                 call attr_real(stage_id, 'max_residual', [stage%max_residual], st)
                 call attr_real(stage_id, 'wall_time', [stage%wall_time], st)
                 call dataset_int1(stage_id, 'active', merge(1, 0, stage%active), st)

@@ -26,6 +26,7 @@ module cfrd_results
         integer :: increments = 0
         integer :: factorisations = 0              !! numeric factorisations in the stage
         integer :: iterations = 0                  !! Newton iterations in the stage
+        integer :: cutbacks = 0                    !! increments halved after no convergence
         real(dp) :: max_residual = 0.0_dp          !! largest |residual| / |load| after an increment
         real(dp) :: wall_time = 0.0_dp             !! s
         logical, allocatable :: active(:)          !! (nelem) element active at the stage's end
