@@ -15,7 +15,7 @@ module cfrd_assembly
 
     public :: element_box_t, dof_map_t
     public :: make_elements, number_equations, load_set_forces, fill_forces
-    public :: assemble_tangent, internal_forces, element_tangents, gather
+    public :: assemble_tangent, internal_forces, element_tangents, gather, active_nodes
 
     !> One element implementation per element kind used by the mesh.
     type :: element_box_t

@@ -7,6 +7,7 @@ module cfrd_stage_driver
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, numerical_error
     use cfrd_clock, only: wall_seconds
+    use cfrd_strings, only: to_text, real_text, fixed_text
     use cfrd_model, only: model_t, stage_fill, stage_load, stage_reset, newtop_zero, &
                           solver_euler, solver_newton
     use cfrd_results, only: results_t, stage_result_t, solver_stats_t
@@ -17,7 +18,7 @@ module cfrd_stage_driver
                                  material_tangent
     use cfrd_assembly, only: element_box_t, dof_map_t, make_elements, number_equations, &
                              load_set_forces, fill_forces, assemble_tangent, internal_forces, &
-                             element_tangents, gather
+                             element_tangents, gather, active_nodes
     implicit none
     private
 
@@ -123,7 +124,7 @@ contains
             result%name = stage%label
             result%kind = stage%kind
             allocate (stage_force(2, mesh%nnode), du_prescribed(2, mesh%nnode), source=0.0_dp)
-            was_used = node_in_use(model, state%active)
+            was_used = active_nodes(model, state%active)
             nodes_before = count(was_used)
             select case (stage%kind)
             case (stage_reset)
@@ -160,7 +161,7 @@ contains
                 ! New layer's own nodes: their displacement during placement is not counted
                 ! (NEWTOP = 0, docs/theory.md section 9).
                 if (stage%kind == stage_fill .and. model%newtop == newtop_zero) then
-                    associate (used => node_in_use(model, state%active))
+                    associate (used => active_nodes(model, state%active))
                         where (spread(used .and. .not. was_used, 1, 2)) state%u = 0.0_dp
                     end associate
                 end if
@@ -197,8 +198,8 @@ contains
         do while (done < 1.0_dp - 1.0e-12_dp)
             step = min(step, 1.0_dp - done)
             k = k + 1
-            context = 'stage '//itoa(s)//' ('//label//'), increment '//itoa(k)// &
-                      ' (load fraction '//ftoa(done)//' to '//ftoa(done + step)//')'
+            context = 'stage '//to_text(s)//' ('//label//'), increment '//to_text(k)// &
+                      ' (load fraction '//fixed_text(done)//' to '//fixed_text(done + step)//')'
             call solve_increment(model, library, state, system, &
                                  f_start + stage_force*(done + step), du_stage*step, result, &
                                  context, error)
@@ -220,24 +221,7 @@ contains
         end do
     end subroutine run_increments
 
-    pure function ftoa(x) result(text)
-        real(dp), intent(in) :: x
-        character(len=:), allocatable :: text
-        character(len=16) :: buffer
-        write (buffer, '(f8.5)') x
-        text = trim(adjustl(buffer))
-    end function ftoa
 
-    pure function node_in_use(model, active) result(used)
-        type(model_t), intent(in) :: model
-        logical, intent(in) :: active(:)
-        logical, allocatable :: used(:)
-        integer :: e
-        allocate (used(model%mesh%nnode), source=.false.)
-        do e = 1, model%mesh%nelem
-            if (active(e)) used(model%mesh%conn(:, e)) = .true.
-        end do
-    end function node_in_use
 
     !> Equations, pattern and a fresh solver for the current active set.
     subroutine new_system(model, library, active, system, error)
@@ -367,18 +351,18 @@ contains
                     if (iteration > 1 .and. residual > 0.5_dp*recent) then
                         call fatal_error(error, context//': no convergence: Newton '// &
                                          'iterations stalled at iteration '// &
-                                         itoa(iteration - 1)//' (relative residual '// &
-                                         rtoa(residual)//', tolerance '// &
-                                         rtoa(model%tolerance)//')', numerical_error)
+                                         to_text(iteration - 1)//' (relative residual '// &
+                                         real_text(residual)//', tolerance '// &
+                                         real_text(model%tolerance)//')', numerical_error)
                         return
                     end if
                     recent = residual
                 end if
                 if (iteration > model%max_iterations) then
                     call fatal_error(error, context//': no convergence after '// &
-                                     itoa(model%max_iterations)//' Newton iterations '// &
-                                     '(relative residual '//rtoa(residual)//', tolerance '// &
-                                     rtoa(model%tolerance)//')', numerical_error)
+                                     to_text(model%max_iterations)//' Newton iterations '// &
+                                     '(relative residual '//real_text(residual)//', tolerance '// &
+                                     real_text(model%tolerance)//')', numerical_error)
                     return
                 end if
                 ! The consistent tangent: the derivative of the midpoint stress update with
@@ -648,7 +632,7 @@ contains
             end do
             allocate (f_int(2, mesh%nnode))
             call internal_forces(model, library, state%active, state%stress, f_int)
-            used = node_in_use(model, state%active)
+            used = active_nodes(model, state%active)
             result%reaction = merge(f_int - state%f_ext, 0.0_dp, &
                                     model%fixed .and. spread(used, 1, 2))
             result%applied_load = sum(state%f_ext, dim=2)
@@ -656,19 +640,5 @@ contains
         end associate
     end subroutine record
 
-    pure function itoa(i) result(s)
-        integer, intent(in) :: i
-        character(len=:), allocatable :: s
-        character(len=16) :: buffer
-        write (buffer, '(i0)') i
-        s = trim(buffer)
-    end function itoa
 
-    pure function rtoa(x) result(s)
-        real(dp), intent(in) :: x
-        character(len=:), allocatable :: s
-        character(len=16) :: buffer
-        write (buffer, '(es10.3)') x
-        s = trim(adjustl(buffer))
-    end function rtoa
 end module cfrd_stage_driver

@@ -7,6 +7,7 @@ module cfrd_cards
     use, intrinsic :: iso_c_binding, only: c_char, c_double, c_ptr, c_null_char, c_null_ptr
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, input_error
+    use cfrd_strings, only: to_text
     implicit none
     private
 
@@ -402,11 +403,4 @@ contains
         end do
     end function upper
 
-    pure function to_text(i) result(s)
-        integer, intent(in) :: i
-        character(len=:), allocatable :: s
-        character(len=16) :: buffer
-        write (buffer, '(i0)') i
-        s = trim(buffer)
-    end function to_text
 end module cfrd_cards
