@@ -212,9 +212,10 @@ contains
             write (unit, '(a,2es14.5)') '  applied load (x, y), kN/m  ', stage%applied_load
             write (unit, '(a,2es14.5)') '  sum of reactions, kN/m     ', stage%reaction_sum
             write (unit, '(a,es14.5)') '  relative imbalance         ', imbalance
-            write (unit, '(a,f10.4,a,f8.4,a,f8.4,a)') '  time', results%wall_time, &
-                ' s (assembly', stage%stats%t_assembly, ' s, factorisation', &
-                stage%stats%t_symbolic + stage%stats%t_numeric, ' s)'
+            write (unit, '(a,f10.4,a,f8.4,a,f8.4,a,i0,a)') '  time', results%wall_time, &
+                ' s (assembly', sum(results%stages%stats%t_assembly), ' s, factorisation', &
+                sum(results%stages%stats%t_symbolic + results%stages%stats%t_numeric), &
+                ' s, ', size(results%stages), ' stages)'
         end associate
     contains
         function centroid(e) result(c)
