@@ -9,6 +9,7 @@ program cfrd_tests
     use test_analysis_verification, only: collect_analysis_verification
     use test_io_results, only: collect_io_results
     use test_analysis_rockfill, only: collect_analysis_rockfill
+    use test_materials_eb, only: collect_materials_eb
     implicit none
     character(len=64) :: only_suite, only_test
     type(unittest_t), allocatable :: tests(:)
@@ -36,6 +37,10 @@ program cfrd_tests
     if (wanted('analysis_verification')) then
         call collect_analysis_verification(tests)
         call run_suite('analysis_verification', tests, only_test, npass, nfail)
+    end if
+    if (wanted('materials_eb')) then
+        call collect_materials_eb(tests)
+        call run_suite('materials_eb', tests, only_test, npass, nfail)
     end if
     if (wanted('analysis_rockfill')) then
         call collect_analysis_rockfill(tests)
