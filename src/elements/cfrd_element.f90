@@ -17,11 +17,11 @@ module cfrd_element
     type, abstract :: element_t
     contains
         !> Number of nodes.
-        procedure(count_i), deferred :: nodes
+        procedure(count_i), deferred, nopass :: nodes
         !> Number of integration points.
-        procedure(count_i), deferred :: gauss_points
+        procedure(count_i), deferred, nopass :: gauss_points
         !> Number of stress / strain components at an integration point.
-        procedure(count_i), deferred :: components
+        procedure(count_i), deferred, nopass :: components
         !> Tangent stiffness: ke = sum over points of B^T D B dV.
         procedure(stiffness_i), deferred :: stiffness
         !> Strains (or relative displacements) at the integration points.
@@ -33,13 +33,11 @@ module cfrd_element
         !> Consistent nodal forces of a normal pressure on the straight face xa -> xb.
         procedure(face_pressure_i), deferred :: face_pressure
         !> Global coordinates of the integration points.
-        procedure(gauss_coordinates_i), deferred :: gauss_coordinates
+        procedure(gauss_coordinates_i), deferred, nopass :: gauss_coordinates
     end type element_t
 
     abstract interface
-        pure integer function count_i(self)
-            import :: element_t
-            class(element_t), intent(in) :: self
+        pure integer function count_i()
         end function count_i
 
         pure subroutine stiffness_i(self, x, dmat, ke)
@@ -77,9 +75,8 @@ module cfrd_element
             real(dp), intent(out) :: fa(2), fb(2)
         end subroutine face_pressure_i
 
-        pure subroutine gauss_coordinates_i(self, x, xg)
-            import :: dp, element_t
-            class(element_t), intent(in) :: self
+        pure subroutine gauss_coordinates_i(x, xg)
+            import :: dp
             real(dp), intent(in) :: x(:, :)
             real(dp), intent(out) :: xg(:, :)
         end subroutine gauss_coordinates_i

@@ -18,32 +18,29 @@ module cfrd_quad4
     type, extends(element_t) :: quad4_t
         logical :: axisymmetric = .false.
     contains
-        procedure :: nodes
-        procedure :: gauss_points
-        procedure :: components
+        procedure, nopass :: nodes
+        procedure, nopass :: gauss_points
+        procedure, nopass :: components
         procedure :: stiffness
         procedure :: strains
         procedure :: internal_force
         procedure :: body_force
         procedure :: face_pressure
-        procedure :: gauss_coordinates
+        procedure, nopass :: gauss_coordinates
     end type quad4_t
 
 contains
 
-    pure integer function nodes(self)
-        class(quad4_t), intent(in) :: self
-        nodes = nnode + 0*merge(1, 0, self%axisymmetric)
+    pure integer function nodes()
+        nodes = nnode
     end function nodes
 
-    pure integer function gauss_points(self)
-        class(quad4_t), intent(in) :: self
-        gauss_points = ngauss + 0*merge(1, 0, self%axisymmetric)
+    pure integer function gauss_points()
+        gauss_points = ngauss
     end function gauss_points
 
-    pure integer function components(self)
-        class(quad4_t), intent(in) :: self
-        components = ncomp + 0*merge(1, 0, self%axisymmetric)
+    pure integer function components()
+        components = ncomp
     end function components
 
     !> Strain-displacement matrix `bee` (4 x 8, rows xx, yy, zz, xy) and the volume weight
@@ -166,8 +163,7 @@ contains
         end do
     end subroutine face_pressure
 
-    pure subroutine gauss_coordinates(self, x, xg)
-        class(quad4_t), intent(in) :: self
+    pure subroutine gauss_coordinates(x, xg)
         real(dp), intent(in) :: x(:, :)
         real(dp), intent(out) :: xg(:, :)
         real(dp) :: points(2, ngauss), weights(ngauss)
@@ -176,6 +172,5 @@ contains
         do ig = 1, ngauss
             xg(:, ig) = matmul(x(:, 1:nnode), shape_fun(points(1, ig), points(2, ig)))
         end do
-        if (self%axisymmetric) return
     end subroutine gauss_coordinates
 end module cfrd_quad4
