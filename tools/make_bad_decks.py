@@ -79,6 +79,7 @@ cases = [
  ("value-without-code", sub("    1    3    1    1    1\n", "    1    3    1    0    1       0.1\n"), "{f}:14:26-35: field UX of BOUNDARY 1: expected blank: a prescribed value needs IX = 1, found '0.1'"),
  ("unknown-load-set", sub("GRAVITY\n", "GRAVITY\nSTAGES\n&LOAD, WIND\n"), "{f}:18:8-11: field SET of STAGES LOAD: expected blank (the unnamed LOADS) or the name of a LOADS group, found 'WIND'"),
  ("unknown-fill-group", sub("GRAVITY\n", "GRAVITY\nSTAGES\nFILL      ROCK\n"), "{f}:18:11-20: field GROUP of STAGES FILL: expected an element group (SOIL), found 'ROCK'"),
+ ("pressure-before-fill", sub("GRAVITY\n", "PRESSURE      2    2     100.0\nSTAGES\nLOAD\nFILL      SOIL\n"), "{f}:18: stage 1 (LOAD): PRESSURE on element 2, which is not placed yet"),
  ("node-beyond-nnode", sub("    4    6    1       0.0", "    4    8    2       0.0"), "{f}:7:6-10: field N2 of NODES: expected a last node from N1 = 4 to 6, found '8'"),
 ]
 for old in os.listdir(P):

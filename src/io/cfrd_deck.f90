@@ -11,7 +11,7 @@ module cfrd_deck
                           plane_strain, axisymmetric, law_elastic, law_duncan_eb, elem_quad4, &
                           all_groups
     use cfrd_model_check, only: element_shape, first_unused_node, free_rigid_mode, &
-                                shape_ok, shape_degenerate
+                                shape_ok, shape_degenerate, unplaced_load
     use cfrd_cards, only: card_t, field_t, deck_lines_t, int_field, real_field, text_field, &
                           read_deck_lines, classify_line, get_int, get_real, get_text, &
                           field_error, card_error, upper, is_comment, to_text
@@ -1122,7 +1122,7 @@ contains
         integer, intent(in) :: node_line(:), element_line(:)
         type(error_t), allocatable, intent(out) :: error
         character(len=:), allocatable :: mode
-        integer :: e, status, node
+        integer :: e, status, node, stage, what, item
         do e = 1, model%mesh%nelem
             status = element_shape(model%mesh, e)
             if (status /= shape_ok) then
@@ -1143,6 +1143,15 @@ contains
             call fatal_error(error, file//':'//to_text(node_line(node))//': node '// &
                              to_text(node)//' is used by no element (it would have no '// &
                              'stiffness)', input_error)
+            return
+        end if
+        call unplaced_load(model, stage, what, item)
+        if (stage > 0) then
+            call fatal_error(error, file//':'//to_text(model%stages(stage)%line)//': stage '// &
+                             to_text(stage)//' ('//model%stages(stage)%label//'): '// &
+                             trim(merge('PRESSURE on element', 'FORCE on node      ', &
+                                        what == 1))//' '//to_text(item)//', which is not '// &
+                             'placed yet (its FILL stage comes later)', input_error)
             return
         end if
         mode = free_rigid_mode(model)

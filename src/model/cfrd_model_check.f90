@@ -3,11 +3,11 @@
 !> sections 3 and 5). They return what is wrong; the deck reader words the message.
 module cfrd_model_check
     use cfrd_kinds, only: dp
-    use cfrd_model, only: model_t, mesh_t
+    use cfrd_model, only: model_t, mesh_t, stage_fill, stage_load
     implicit none
     private
 
-    public :: element_shape, first_unused_node, free_rigid_mode
+    public :: element_shape, first_unused_node, free_rigid_mode, unplaced_load
     public :: shape_ok, shape_degenerate, shape_inverted
 
     integer, parameter :: shape_ok = 0, shape_degenerate = 1, shape_inverted = 2
@@ -105,4 +105,55 @@ contains
               + g(1, 3)*(g(2, 1)*g(3, 2) - g(2, 2)*g(3, 1))
         if (det <= 1.0e-10_dp*g(1, 1)*g(2, 2)*max(g(3, 3), 1.0_dp)) mode = 'rotation'
     end function free_rigid_mode
+
+    !> The first LOAD stage whose load set loads what is not placed yet: returns the stage
+    !> and either the element of a PRESSURE (what = 1) or the node of a FORCE (what = 2);
+    !> stage = 0 when every load falls on placed parts. Elements of groups that a FILL stage
+    !> places are absent before it (as the stage driver does).
+    pure subroutine unplaced_load(model, stage, what, item)
+        type(model_t), intent(in) :: model
+        integer, intent(out) :: stage, what, item
+        logical, allocatable :: filled(:), active(:), used(:)
+        integer :: s, k, e, node
+        stage = 0
+        what = 0
+        item = 0
+        allocate (filled(0:size(model%mesh%group_name)), source=.false.)
+        do s = 1, size(model%stages)
+            if (model%stages(s)%kind == stage_fill) filled(model%stages(s)%group) = .true.
+        end do
+        active = .not. filled(model%mesh%group)
+        do s = 1, size(model%stages)
+            associate (st => model%stages(s))
+                if (st%kind == stage_fill) then
+                    where (model%mesh%group == st%group) active = .true.
+                else if (st%kind == stage_load) then
+                    associate (loads => model%load_sets(st%load_set))
+                        do k = 1, size(loads%pressures)
+                            if (.not. active(loads%pressures(k)%element)) then
+                                stage = s
+                                what = 1
+                                item = loads%pressures(k)%element
+                                return
+                            end if
+                        end do
+                        allocate (used(model%mesh%nnode), source=.false.)
+                        do e = 1, model%mesh%nelem
+                            if (active(e)) used(model%mesh%conn(:, e)) = .true.
+                        end do
+                        do node = 1, model%mesh%nnode
+                            if (any(loads%nodal_force(:, node) /= 0.0_dp) .and. &
+                                .not. used(node)) then
+                                stage = s
+                                what = 2
+                                item = node
+                                return
+                            end if
+                        end do
+                        deallocate (used)
+                    end associate
+                end if
+            end associate
+        end do
+    end subroutine unplaced_load
 end module cfrd_model_check
