@@ -86,6 +86,8 @@ contains
                 new_unittest('bad_x2_required', bad_x2_required), &
                 new_unittest('bad_boundary_code', bad_boundary_code), &
                 new_unittest('bad_duplicate_element', bad_duplicate_element), &
+                new_unittest('bad_real_overflow', bad_real_overflow), &
+                new_unittest('bad_indented_word_is_data', bad_indented_word), &
                 new_unittest('shape_check', test_shape_check), &
                 new_unittest('rigid_mode_check', test_rigid_mode_check), &
                 new_unittest('missing_file', test_missing_file) &
@@ -327,14 +329,18 @@ contains
         call check(error, model%mesh%nelem, 2, 'elements')
     end subroutine test_comments_crlf
 
-    !> F10.0 fields in Fortran syntax: '2.0D4', '20000', '.2E5' are all 20000; '.25' is 0.25.
+    !> F10.0 fields in Fortran syntax: '2.0D4', '20000', '.2E5', '2E+004', '20D+003' are all
+    !> 20000; '.25' is 0.25.
     subroutine test_real_syntax(error)
         type(error_t), allocatable, intent(out) :: error
         type(model_t) :: model
-        character(len=10), parameter :: spellings(3) = ['     2.0D4', '     20000', &
-                                                        '      .2E5']
+        character(len=10), parameter :: spellings(5) = ['     2.0D4', '     20000', &
+                                                        '      .2E5', '    2E+004', &
+                                                        '   20D+003']
         integer :: i
-        do i = 1, 3
+        ! '    2E+004' puts its exponent letter in column 6, where card 1 has its LAW: it
+        ! must still be read as the parameter card.
+        do i = 1, 5
             call read_text('reals.dat', 'NODES'//nl//standard_nodes()//'ELEMENTS'//nl// &
                            '    1    1    2    5    4    1    1'//nl// &
                            'MATERIALS'//nl//'    1ELASTIC'//nl//spellings(i)//'       .25'//nl// &
@@ -861,4 +867,21 @@ contains
                              [character(len=80) ::])
     end subroutine bad_duplicate_element
 
+
+    !> 1e999 overflows a double: a field error, not inf (nor SIGFPE under -ffpe-trap).
+    subroutine bad_real_overflow(error)
+        type(error_t), allocatable, intent(out) :: error
+        call expect_rejected(error, 'overflow.dat', ':8:1-10: field E of MATERIALS 1', &
+                             deck(materials='    1ELASTIC'//nl//'     1e999       0.3'//nl), &
+                             [character(len=80) :: '1e308', "found '1e999'"])
+    end subroutine bad_real_overflow
+
+    !> An indented word that is no keyword is data: E = 'inf' is a bad real on line 8, not
+    !> an unknown group (headers are left-justified).
+    subroutine bad_indented_word(error)
+        type(error_t), allocatable, intent(out) :: error
+        call expect_rejected(error, 'indented.dat', ':8:1-10: field E of MATERIALS 1', &
+                             deck(materials='    1ELASTIC'//nl//'       inf       0.3'//nl), &
+                             [character(len=80) :: 'a real number', "found 'inf'"])
+    end subroutine bad_indented_word
 end module test_io_deck

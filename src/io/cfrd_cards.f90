@@ -14,7 +14,7 @@ module cfrd_cards
     public :: card_t, field_t, deck_lines_t
     public :: int_field, real_field, text_field, card_columns
     public :: read_deck_lines, classify_line, field_text, get_int, get_real, get_text
-    public :: field_error, card_error, line_error, upper, is_comment, to_text
+    public :: field_error, card_error, line_error, upper, is_comment, is_real, to_text
 
     !> Width of a fixed-format card.
     integer, parameter :: card_columns = 80
@@ -271,13 +271,17 @@ contains
             call field_error(error, file, card, fields, k, context, 'a real number', text)
             return
         end if
+        ! Refuse magnitudes near the double-precision limit before strtod sees them: its
+        ! overflow raises the floating-point exception that debug builds trap (SIGFPE).
+        if (decimal_magnitude(number) >= 308) then
+            call field_error(error, file, card, fields, k, context, &
+                             'a real number of magnitude below 1e308', text)
+            return
+        end if
         do i = 1, len(number)
             if (number(i:i) == 'd' .or. number(i:i) == 'D') number(i:i) = 'e'
         end do
         value = c_strtod(number//c_null_char, c_null_ptr)
-        if (.not. abs(value) <= huge(value)) then
-            call field_error(error, file, card, fields, k, context, 'a finite real number', text)
-        end if
     end subroutine get_real
 
     !> Text field k, blanks trimmed at both ends.
@@ -392,6 +396,52 @@ contains
         end do
         is_real = exponent_digits > 0
     end function is_real
+
+    !> Power of ten of the leading nonzero digit of a number that `is_real` accepted
+    !> ('20000' 4, '0.05' -2, '1e999' 999); -huge(1) for zero. The exponent is capped so
+    !> that no digit string overflows the integer.
+    pure integer function decimal_magnitude(s) result(magnitude)
+        character(len=*), intent(in) :: s
+        integer :: i, digits, integer_digits, leading, exponent
+        logical :: seen_dot, negative
+        digits = 0
+        integer_digits = 0
+        leading = 0
+        seen_dot = .false.
+        i = 1
+        if (s(1:1) == '+' .or. s(1:1) == '-') i = 2
+        do while (i <= len(s))
+            if (s(i:i) == '.') then
+                seen_dot = .true.
+            else if (s(i:i) >= '0' .and. s(i:i) <= '9') then
+                digits = digits + 1
+                if (.not. seen_dot) integer_digits = integer_digits + 1
+                if (leading == 0 .and. s(i:i) /= '0') leading = digits
+            else
+                exit
+            end if
+            i = i + 1
+        end do
+        if (leading == 0) then
+            magnitude = -huge(1)
+            return
+        end if
+        exponent = 0
+        negative = .false.
+        if (i < len(s)) then
+            i = i + 1
+            if (s(i:i) == '+' .or. s(i:i) == '-') then
+                negative = s(i:i) == '-'
+                i = i + 1
+            end if
+            do while (i <= len(s))
+                exponent = min(10*exponent + (iachar(s(i:i)) - iachar('0')), 100000)
+                i = i + 1
+            end do
+        end if
+        if (negative) exponent = -exponent
+        magnitude = integer_digits - leading + exponent
+    end function decimal_magnitude
 
     pure function upper(s) result(u)
         character(len=*), intent(in) :: s
