@@ -88,6 +88,9 @@ contains
                 new_unittest('bad_duplicate_element', bad_duplicate_element), &
                 new_unittest('bad_real_overflow', bad_real_overflow), &
                 new_unittest('bad_indented_word_is_data', bad_indented_word), &
+                new_unittest('bad_free_format_extra_field', bad_free_extra_field), &
+                new_unittest('bad_free_format_lone_ampersand', bad_lone_ampersand), &
+                new_unittest('free_format_trailing_comma_and_label', test_free_trailing), &
                 new_unittest('shape_check', test_shape_check), &
                 new_unittest('rigid_mode_check', test_rigid_mode_check), &
                 new_unittest('missing_file', test_missing_file) &
@@ -884,4 +887,37 @@ contains
                              deck(materials='    1ELASTIC'//nl//'       inf       0.3'//nl), &
                              [character(len=80) :: 'a real number', "found 'inf'"])
     end subroutine bad_indented_word
+
+    !> '&1,3,1,0,0,4,0, 99': a token after Y2 (the 7th and last NODES field); '99' sits in
+    !> columns 17-18 of line 2.
+    subroutine bad_free_extra_field(error)
+        type(error_t), allocatable, intent(out) :: error
+        call expect_rejected(error, 'free-extra.dat', ':2:17-18: field after Y2 of NODES', &
+                             deck(nodes='&1,3,1,0,0,4,0, 99'//nl//node_line_2), &
+                             [character(len=80) :: "found '99'"])
+    end subroutine bad_free_extra_field
+
+    !> A card that is only '&' has a blank N1 (required), reported at column 2.
+    subroutine bad_lone_ampersand(error)
+        type(error_t), allocatable, intent(out) :: error
+        call expect_rejected(error, 'lone-ampersand.dat', ':2:2-2: field N1 of NODES', &
+                             deck(nodes='&'//nl//std_nodes), [character(len=80) ::])
+    end subroutine bad_lone_ampersand
+
+    !> A trailing comma is an empty (default) field, and a free-text LABEL keeps its commas.
+    subroutine test_free_trailing(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(model_t) :: model
+        call read_text('free-trailing.dat', &
+                       deck(nodes='&1,3,1,0,0,4,0,'//nl//node_line_2, &
+                            materials='&1, elastic, rockfill, zone 3B'//nl// &
+                                      '&20000, 0.3, 20,'//nl), model, error)
+        if (allocated(error)) return
+        call check(error, model%mesh%x(1, 3), 4.0_dp, 'x of node 3 (generated to X2 = 4)', &
+                   abs=0.0_dp)
+        if (allocated(error)) return
+        call check(error, model%materials(1)%label, 'rockfill, zone 3B', 'label with a comma')
+        if (allocated(error)) return
+        call check(error, model%materials(1)%unit_weight, 20.0_dp, 'GAMMA', abs=0.0_dp)
+    end subroutine test_free_trailing
 end module test_io_deck

@@ -201,16 +201,24 @@ contains
                 ! Report the columns of the token without its surrounding blanks.
                 first = card%token_first(k)
                 last = card%token_last(k)
-                do while (first < last .and. card%text(first:first) == ' ')
+                ! A trailing free-text field (a LABEL) takes the rest of the card, commas
+                ! included.
+                if (k == size(fields) .and. is_free_text(fields(k))) last = len(card%text)
+                ! (Fortran's .and. does not short-circuit: test the bounds first.)
+                do while (first < last)
+                    if (card%text(first:first) /= ' ') exit
                     first = first + 1
                 end do
-                do while (last > first .and. card%text(last:last) == ' ')
+                do while (last > first)
+                    if (card%text(last:last) /= ' ') exit
                     last = last - 1
                 end do
-                text = card%text(first:last)
                 if (last < first) then
+                    ! An empty token: '&1,,3' or a trailing comma.
                     last = first
                     text = ''
+                else
+                    text = card%text(first:last)
                 end if
             else
                 first = len(card%text) + 1
@@ -239,6 +247,10 @@ contains
         logical, intent(out), optional :: given
         character(len=:), allocatable :: text
         integer :: first, last
+        if (card%free) then
+            call check_extra_tokens(file, card, fields, context, error)
+            if (allocated(error)) return
+        end if
         call field_text(card, fields, k, text, first, last)
         if (present(given)) given = len_trim(text) > 0
         value = default
@@ -262,6 +274,10 @@ contains
         logical, intent(out), optional :: given
         character(len=:), allocatable :: text, number
         integer :: first, last, i
+        if (card%free) then
+            call check_extra_tokens(file, card, fields, context, error)
+            if (allocated(error)) return
+        end if
         call field_text(card, fields, k, text, first, last)
         if (present(given)) given = len_trim(text) > 0
         value = default
@@ -283,6 +299,39 @@ contains
         end do
         value = c_strtod(number//c_null_char, c_null_ptr)
     end subroutine get_real
+
+    !> A free-format card may not carry more fields than its layout: a non-blank token after
+    !> the last field is an error (it usually means a field was inserted by mistake, and
+    !> every value after it is shifted). Blank extra tokens (a trailing comma) are harmless.
+    subroutine check_extra_tokens(file, card, fields, context, error)
+        character(len=*), intent(in) :: file, context
+        type(card_t), intent(in) :: card
+        type(field_t), intent(in) :: fields(:)
+        type(error_t), allocatable, intent(out) :: error
+        integer :: t, first, last
+        if (is_free_text(fields(size(fields)))) return   ! it takes the rest of the card
+        do t = size(fields) + 1, size(card%token_first)
+            first = card%token_first(t)
+            last = card%token_last(t)
+            if (last < first) cycle
+            if (len_trim(card%text(first:last)) == 0) cycle
+            do while (card%text(first:first) == ' ')
+                first = first + 1
+            end do
+            last = first + len_trim(card%text(first:card%token_last(t))) - 1
+            call line_error(error, file, card%line, first, last, 'field after '// &
+                            trim(fields(size(fields))%name)//' of '//context// &
+                            ': expected no more fields (the card has '// &
+                            to_text(size(fields))//"), found '"//card%text(first:last)//"'")
+            return
+        end do
+    end subroutine check_extra_tokens
+
+    !> A text field wider than A10 is free text (a LABEL), not a name.
+    pure logical function is_free_text(field)
+        type(field_t), intent(in) :: field
+        is_free_text = field%kind == text_field .and. field%width > 10
+    end function is_free_text
 
     !> Text field k, blanks trimmed at both ends.
     subroutine get_text(card, fields, k, value)
