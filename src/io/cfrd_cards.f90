@@ -14,7 +14,7 @@ module cfrd_cards
     public :: card_t, field_t, deck_lines_t
     public :: int_field, real_field, text_field, card_columns
     public :: read_deck_lines, classify_line, field_text, get_int, get_real, get_text
-    public :: field_error, card_error, line_error, upper, is_comment, to_text
+    public :: field_error, card_error, line_error, upper, is_comment, is_real, to_text
 
     !> Width of a fixed-format card.
     integer, parameter :: card_columns = 80
@@ -201,16 +201,24 @@ contains
                 ! Report the columns of the token without its surrounding blanks.
                 first = card%token_first(k)
                 last = card%token_last(k)
-                do while (first < last .and. card%text(first:first) == ' ')
+                ! A trailing free-text field (a LABEL) takes the rest of the card, commas
+                ! included.
+                if (k == size(fields) .and. is_free_text(fields(k))) last = len(card%text)
+                ! (Fortran's .and. does not short-circuit: test the bounds first.)
+                do while (first < last)
+                    if (card%text(first:first) /= ' ') exit
                     first = first + 1
                 end do
-                do while (last > first .and. card%text(last:last) == ' ')
+                do while (last > first)
+                    if (card%text(last:last) /= ' ') exit
                     last = last - 1
                 end do
-                text = card%text(first:last)
                 if (last < first) then
+                    ! An empty token: '&1,,3' or a trailing comma.
                     last = first
                     text = ''
+                else
+                    text = card%text(first:last)
                 end if
             else
                 first = len(card%text) + 1
@@ -239,6 +247,10 @@ contains
         logical, intent(out), optional :: given
         character(len=:), allocatable :: text
         integer :: first, last
+        if (card%free) then
+            call check_extra_tokens(file, card, fields, context, error)
+            if (allocated(error)) return
+        end if
         call field_text(card, fields, k, text, first, last)
         if (present(given)) given = len_trim(text) > 0
         value = default
@@ -262,6 +274,10 @@ contains
         logical, intent(out), optional :: given
         character(len=:), allocatable :: text, number
         integer :: first, last, i
+        if (card%free) then
+            call check_extra_tokens(file, card, fields, context, error)
+            if (allocated(error)) return
+        end if
         call field_text(card, fields, k, text, first, last)
         if (present(given)) given = len_trim(text) > 0
         value = default
@@ -271,14 +287,51 @@ contains
             call field_error(error, file, card, fields, k, context, 'a real number', text)
             return
         end if
+        ! Refuse magnitudes near the double-precision limit before strtod sees them: its
+        ! overflow raises the floating-point exception that debug builds trap (SIGFPE).
+        if (decimal_magnitude(number) >= 308) then
+            call field_error(error, file, card, fields, k, context, &
+                             'a real number of magnitude below 1e308', text)
+            return
+        end if
         do i = 1, len(number)
             if (number(i:i) == 'd' .or. number(i:i) == 'D') number(i:i) = 'e'
         end do
         value = c_strtod(number//c_null_char, c_null_ptr)
-        if (.not. abs(value) <= huge(value)) then
-            call field_error(error, file, card, fields, k, context, 'a finite real number', text)
-        end if
     end subroutine get_real
+
+    !> A free-format card may not carry more fields than its layout: a non-blank token after
+    !> the last field is an error (it usually means a field was inserted by mistake, and
+    !> every value after it is shifted). Blank extra tokens (a trailing comma) are harmless.
+    subroutine check_extra_tokens(file, card, fields, context, error)
+        character(len=*), intent(in) :: file, context
+        type(card_t), intent(in) :: card
+        type(field_t), intent(in) :: fields(:)
+        type(error_t), allocatable, intent(out) :: error
+        integer :: t, first, last
+        if (is_free_text(fields(size(fields)))) return   ! it takes the rest of the card
+        do t = size(fields) + 1, size(card%token_first)
+            first = card%token_first(t)
+            last = card%token_last(t)
+            if (last < first) cycle
+            if (len_trim(card%text(first:last)) == 0) cycle
+            do while (card%text(first:first) == ' ')
+                first = first + 1
+            end do
+            last = first + len_trim(card%text(first:card%token_last(t))) - 1
+            call line_error(error, file, card%line, first, last, 'field after '// &
+                            trim(fields(size(fields))%name)//' of '//context// &
+                            ': expected no more fields (the card has '// &
+                            to_text(size(fields))//"), found '"//card%text(first:last)//"'")
+            return
+        end do
+    end subroutine check_extra_tokens
+
+    !> A text field wider than A10 is free text (a LABEL), not a name.
+    pure logical function is_free_text(field)
+        type(field_t), intent(in) :: field
+        is_free_text = field%kind == text_field .and. field%width > 10
+    end function is_free_text
 
     !> Text field k, blanks trimmed at both ends.
     subroutine get_text(card, fields, k, value)
@@ -392,6 +445,52 @@ contains
         end do
         is_real = exponent_digits > 0
     end function is_real
+
+    !> Power of ten of the leading nonzero digit of a number that `is_real` accepted
+    !> ('20000' 4, '0.05' -2, '1e999' 999); -huge(1) for zero. The exponent is capped so
+    !> that no digit string overflows the integer.
+    pure integer function decimal_magnitude(s) result(magnitude)
+        character(len=*), intent(in) :: s
+        integer :: i, digits, integer_digits, leading, exponent
+        logical :: seen_dot, negative
+        digits = 0
+        integer_digits = 0
+        leading = 0
+        seen_dot = .false.
+        i = 1
+        if (s(1:1) == '+' .or. s(1:1) == '-') i = 2
+        do while (i <= len(s))
+            if (s(i:i) == '.') then
+                seen_dot = .true.
+            else if (s(i:i) >= '0' .and. s(i:i) <= '9') then
+                digits = digits + 1
+                if (.not. seen_dot) integer_digits = integer_digits + 1
+                if (leading == 0 .and. s(i:i) /= '0') leading = digits
+            else
+                exit
+            end if
+            i = i + 1
+        end do
+        if (leading == 0) then
+            magnitude = -huge(1)
+            return
+        end if
+        exponent = 0
+        negative = .false.
+        if (i < len(s)) then
+            i = i + 1
+            if (s(i:i) == '+' .or. s(i:i) == '-') then
+                negative = s(i:i) == '-'
+                i = i + 1
+            end if
+            do while (i <= len(s))
+                exponent = min(10*exponent + (iachar(s(i:i)) - iachar('0')), 100000)
+                i = i + 1
+            end do
+        end if
+        if (negative) exponent = -exponent
+        magnitude = integer_digits - leading + exponent
+    end function decimal_magnitude
 
     pure function upper(s) result(u)
         character(len=*), intent(in) :: s

@@ -14,7 +14,7 @@ module cfrd_deck
                                 shape_ok, shape_degenerate, unplaced_load
     use cfrd_cards, only: card_t, field_t, deck_lines_t, int_field, real_field, text_field, &
                           read_deck_lines, classify_line, get_int, get_real, get_text, &
-                          field_error, card_error, upper, is_comment, to_text
+                          field_error, card_error, upper, is_comment, is_real, to_text
     implicit none
     private
 
@@ -332,6 +332,13 @@ contains
         if (len(word) == 0) return
         if (index(word, ' ') > 0) word = word(1:index(word, ' ') - 1)
         if (.not. ((word(1:1) >= 'A' .and. word(1:1) <= 'Z'))) word = ''
+        if (len(word) == 0 .or. card%free) return
+        ! Headers are left-justified. An indented keyword is still taken as one, but any other
+        ! indented word is data: '       inf' in an F10 field deserves a field error, not
+        ! "unknown group 'INF'".
+        if (card%text(1:1) == ' ' .and. .not. (word == 'END' .or. word == 'STOP' .or. &
+            any(group_keywords == word) .or. any(load_keywords == word) .or. &
+            any(stage_keywords == word))) word = ''
     end function leading_word
 
     subroutine append_card(group, card)
@@ -620,12 +627,21 @@ contains
     !> A material's first card: its LAW field holds a word.
     logical function is_material_card(card)
         type(card_t), intent(in) :: card
-        character(len=:), allocatable :: law
+        character(len=:), allocatable :: law, text
         call get_text(card, material_fields, 2, law)
         is_material_card = .false.
         if (len(law) == 0) return
         law = upper(law)
         is_material_card = law(1:1) >= 'A' .and. law(1:1) <= 'Z'
+        ! '    2E+004' is an E of 20000 whose exponent letter falls in column 6 (LAW), and
+        ! '       inf' a bad E: a fixed-format card whose columns 1-10 read as a real, or
+        ! whose M (columns 1-5) is blank, is a parameter card.
+        if (is_material_card .and. .not. card%free) then
+            call get_text(card, elastic_fields, 1, text)
+            is_material_card = .not. is_real(text)
+            call get_text(card, material_fields, 1, text)
+            is_material_card = is_material_card .and. len(text) > 0
+        end if
     end function is_material_card
 
     subroutine read_nodes(file, group, counts, model, node_line, error)
