@@ -81,6 +81,10 @@ cases = [
  ("unknown-fill-group", sub("GRAVITY\n", "GRAVITY\nSTAGES\nFILL      ROCK\n"), "{f}:18:11-20: field GROUP of STAGES FILL: expected an element group (SOIL), found 'ROCK'"),
  ("pressure-before-fill", sub("GRAVITY\n", "PRESSURE      2    2     100.0\nSTAGES\nLOAD\nFILL      SOIL\n"), "{f}:18: stage 1 (LOAD): PRESSURE on element 2, which is not placed yet"),
  ("node-beyond-nnode", sub("    4    6    1       0.0", "    4    8    2       0.0"), "{f}:7:6-10: field N2 of NODES: expected a last node from N1 = 4 to 6, found '8'"),
+ ("real-overflow", sub("   20000.0       0.3", "     1e999       0.3"), "{f}:12:1-10: field E of MATERIALS 1: expected a real number of magnitude below 1e308, found '1e999'"),
+ ("indented-word", sub("   20000.0       0.3", "       inf       0.3"), "{f}:12:1-10: field E of MATERIALS 1: expected a real number, found 'inf'"),
+ ("free-extra-field", sub("    1    3    1       0.0       0.0       2.0       0.0", "&1, 3, 1, 0.0, 0.0, 2.0, 0.0, 7"), "{f}:6:31-31: field after Y2 of NODES: expected no more fields (the card has 7), found '7'"),
+ ("lone-ampersand", sub("    1    3    1       0.0       0.0       2.0       0.0", "&\n    1    3    1       0.0       0.0       2.0       0.0"), "{f}:6:2-2: field N1 of NODES"),
 ]
 for old in os.listdir(P):
     os.remove(P + old)
