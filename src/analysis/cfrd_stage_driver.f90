@@ -325,7 +325,8 @@ contains
         call solve_out_of_balance(model, library, state, state%stress, f_target, du_prescribed, &
                                   system, du, result, context, error)
         if (allocated(error)) return
-        if (model%solver == solver_euler) then
+        if (model%solver == solver_euler .or. system%factorised_linear) then
+            ! Euler; or a linear law, for which the midpoint step would repeat the same solve.
             call integrate_stress(model, library, state, du, stress_end, stress_mid, .false.)
         else
             ! Midpoint: stresses half-way, the tangent there, and the increment again.
