@@ -32,12 +32,15 @@ contains
                 new_unittest('symbolic_reuse', test_symbolic_reuse), &
                 new_unittest('singular_matrix_is_an_error', test_singular), &
                 new_unittest('nearly_singular_matrix_is_an_error', test_nearly_singular), &
-                new_unittest('rcond_of_diagonal', test_rcond) &
+                new_unittest('rcond_of_diagonal', test_rcond), &
+                new_unittest('rcond_of_2x2_by_hand', test_rcond_2x2), &
+                new_unittest('quad_grid_matches_dense', test_quad_grid) &
                 ]
     end subroutine collect_solver_sparse
 
-    !> Three elements of different sizes on 6 equations, with prescribed dofs (0) mixed in:
-    !> element 1 (3 dofs) 1 2 0, element 2 (4 dofs) 2 3 0 4, element 3 (2 dofs) 5 6... and 4 6.
+    !> Four elements of different sizes on 6 equations, with prescribed dofs (0) mixed in:
+    !> element 1 (3 dofs) 1 2 0, element 2 (4 dofs) 2 3 0 4, element 3 (2 dofs) 5 6, element 4
+    !> (2 dofs) 4 6.
     subroutine small_system(dof_ptr, dofs, kes)
         integer, allocatable, intent(out) :: dof_ptr(:), dofs(:)
         real(dp), allocatable, intent(out) :: kes(:)   ! all element matrices, column-major
@@ -110,7 +113,30 @@ contains
         if (allocated(error)) return
         count = count_nonzero(dense)
         call check(error, pattern%nnz, count, 'stored entries = structural non-zeros')
+        if (allocated(error)) return
+        call check(error, unsorted_columns(pattern), 0, 'columns with unsorted rows')
     end subroutine test_pattern_dense
+
+    !> Columns of the pattern whose row indices are not strictly increasing (UMFPACK's input
+    !> rule) or out of range.
+    integer function unsorted_columns(pattern) result(count)
+        type(sparse_pattern_t), intent(in) :: pattern
+        integer :: j, p
+        count = 0
+        do j = 1, pattern%n
+            do p = pattern%colptr(j) + 1, pattern%colptr(j + 1)
+                if (pattern%rowind(p) < 0 .or. pattern%rowind(p) >= pattern%n) then
+                    count = count + 1
+                    exit
+                end if
+                if (p == pattern%colptr(j) + 1) cycle
+                if (pattern%rowind(p) <= pattern%rowind(p - 1)) then
+                    count = count + 1
+                    exit
+                end if
+            end do
+        end do
+    end function unsorted_columns
 
     integer function count_nonzero(a)
         real(dp), intent(in) :: a(:, :)
@@ -223,7 +249,6 @@ contains
             do p = pattern%colptr(j) + 1, pattern%colptr(j + 1)
                 if (pattern%rowind(p) + 1 == j) values(p) = values(p) + j
             end do
-            dense(j, j) = dense(j, j)
         end do
         dense = 2.0_dp*dense
         do j = 1, 6
@@ -263,8 +288,7 @@ contains
         type(sparse_pattern_t) :: pattern
         type(umfpack_t) :: solver
         real(dp), allocatable :: values(:)
-        integer, allocatable :: dofs(:)
-        integer :: e
+        integer :: dofs(8), e
         dofs = [(e, e + 1, e=1, 4)]
         call build_pattern(pattern, 5, [1, 3, 5, 7, 9], dofs, error)
         if (allocated(error)) return
@@ -304,4 +328,137 @@ contains
         if (allocated(error)) return
         call check(error, solver%rcond(), 1.0_dp, 'rcond', rel=1e-14_dp)
     end subroutine test_rcond
+
+    !> [[2, 1], [1, 2]] by hand: the row sums scale it to [[2, 1], [1, 2]]/3; LU with the
+    !> diagonal pivots (also the partial-pivoting choice) gives U11 = 2/3 and
+    !> U22 = 2/3 - (1/3)(1/3)/(2/3) = 1/2, so rcond = (1/2)/(2/3) = 3/4.
+    subroutine test_rcond_2x2(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(sparse_pattern_t) :: pattern
+        type(umfpack_t) :: solver
+        real(dp), allocatable :: values(:)
+        call build_pattern(pattern, 2, [1, 3], [1, 2], error)
+        if (allocated(error)) return
+        allocate (values(pattern%nnz), source=0.0_dp)
+        call assemble_element(pattern, values, 1, reshape([2.0_dp, 1.0_dp, 1.0_dp, 2.0_dp], &
+                                                          [2, 2]))
+        call solver%factorise(pattern, values, error)
+        if (allocated(error)) return
+        call check(error, solver%rcond(), 0.75_dp, 'rcond', rel=1e-14_dp)
+    end subroutine test_rcond_2x2
+
+    !> A 5 x 4 grid of 8-dof quads with the bottom row of nodes fixed, plus 2-dof springs
+    !> between neighbouring top nodes (elements of two sizes, up to four per column), with
+    !> symmetric positive definite element matrices G^T G + I (G filled from a sine table):
+    !> every entry equals the dense assembly exactly (same additions in the same order), the
+    !> stored entries are exactly the structural ones, and the solve matches dgesv.
+    subroutine test_quad_grid(error)
+        type(error_t), allocatable, intent(out) :: error
+        integer, parameter :: nx = 5, ny = 4, nquad = nx*ny, nspring = nx
+        integer, parameter :: nelem = nquad + nspring
+        type(sparse_pattern_t) :: pattern
+        type(umfpack_t) :: solver
+        integer :: eq(2, (nx + 1)*(ny + 1)), dof_ptr(nelem + 1), dofs(8*nquad + 2*nspring)
+        integer :: n, i, j, e, node(4), m, r, c, a
+        integer, allocatable :: ipiv(:)
+        real(dp), allocatable :: values(:), dense(:, :), b(:), x(:), reference(:, :)
+        logical, allocatable :: structural(:, :)
+        real(dp) :: g(8, 8), ke(8, 8)
+        integer :: info
+
+        n = 0
+        do j = 0, ny
+            do i = 0, nx
+                if (j == 0) then
+                    eq(:, j*(nx + 1) + i + 1) = 0
+                else
+                    eq(:, j*(nx + 1) + i + 1) = [n + 1, n + 2]
+                    n = n + 2
+                end if
+            end do
+        end do
+        dof_ptr(1) = 1
+        e = 0
+        do j = 0, ny - 1
+            do i = 0, nx - 1
+                e = e + 1
+                node = [j*(nx + 1) + i + 1, j*(nx + 1) + i + 2, (j + 1)*(nx + 1) + i + 2, &
+                        (j + 1)*(nx + 1) + i + 1]
+                dofs(dof_ptr(e):dof_ptr(e) + 7) = reshape(eq(:, node), [8])
+                dof_ptr(e + 1) = dof_ptr(e) + 8
+            end do
+        end do
+        do i = 0, nx - 1   ! horizontal springs along the top row
+            e = e + 1
+            dofs(dof_ptr(e):dof_ptr(e) + 1) = [eq(1, ny*(nx + 1) + i + 1), &
+                                                eq(1, ny*(nx + 1) + i + 2)]
+            dof_ptr(e + 1) = dof_ptr(e) + 2
+        end do
+
+        call build_pattern(pattern, n, dof_ptr, dofs, error)
+        if (allocated(error)) return
+        allocate (values(pattern%nnz), source=0.0_dp)
+        allocate (dense(n, n), source=0.0_dp)
+        allocate (structural(n, n), source=.false.)
+        do e = 1, nelem
+            m = dof_ptr(e + 1) - dof_ptr(e)
+            do j = 1, m
+                do i = 1, m
+                    g(i, j) = sin(real(7*e + 3*i + 11*j, dp))
+                end do
+            end do
+            ke(:m, :m) = matmul(transpose(g(:m, :m)), g(:m, :m))
+            do a = 1, m
+                ke(a, a) = ke(a, a) + 1.0_dp
+            end do
+            call assemble_element(pattern, values, e, ke(:m, :m))
+            do j = 1, m
+                c = dofs(dof_ptr(e) + j - 1)
+                if (c <= 0) cycle
+                do i = 1, m
+                    r = dofs(dof_ptr(e) + i - 1)
+                    if (r <= 0) cycle
+                    dense(r, c) = dense(r, c) + ke(i, j)
+                    structural(r, c) = .true.
+                end do
+            end do
+        end do
+
+        call check(error, pattern%nnz, count(structural), 'stored entries = structural ones')
+        if (allocated(error)) return
+        call check(error, unsorted_columns(pattern), 0, 'columns with unsorted rows')
+        if (allocated(error)) return
+        call check(error, maxval(abs(to_dense(pattern, values) - dense)), 0.0_dp, &
+                   'entries against the dense assembly', abs=0.0_dp)
+        if (allocated(error)) return
+
+        allocate (b(n), x(n), reference(n, 1), ipiv(n))
+        do i = 1, n
+            b(i) = cos(real(i, dp))
+        end do
+        call solver%factorise(pattern, values, error)
+        if (allocated(error)) return
+        call solver%solve(pattern, values, b, x, error)
+        if (allocated(error)) return
+        reference(:, 1) = b
+        call dgesv(n, 1, dense, n, ipiv, reference, n, info)
+        call check(error, info, 0, 'dgesv info')
+        if (allocated(error)) return
+        call check(error, maxval(abs(x - reference(:, 1))), 0.0_dp, 'x against dgesv', &
+                   abs=1e-12_dp*maxval(abs(reference)))
+    end subroutine test_quad_grid
+
+    !> The dense matrix held by a compressed-column pattern and its values.
+    function to_dense(pattern, values) result(a)
+        type(sparse_pattern_t), intent(in) :: pattern
+        real(dp), intent(in) :: values(:)
+        real(dp) :: a(pattern%n, pattern%n)
+        integer :: j, p
+        a = 0.0_dp
+        do j = 1, pattern%n
+            do p = pattern%colptr(j) + 1, pattern%colptr(j + 1)
+                a(pattern%rowind(p) + 1, j) = values(p)
+            end do
+        end do
+    end function to_dense
 end module test_solver_sparse

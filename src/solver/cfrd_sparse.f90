@@ -27,37 +27,58 @@ contains
 
     !> Build the pattern of a matrix of order n assembled from elements whose equation numbers
     !> are dofs(dof_ptr(e):dof_ptr(e+1)-1); entries <= 0 are not equations and are skipped.
-    !> Cost is linear in the number of element entries: columns gather their elements through
-    !> an inverse list, rows are de-duplicated with a marker array and each (short) column is
-    !> sorted by insertion.
+    !> Elements may have different numbers of dofs. Cost is linear in the number of element
+    !> matrix entries, with no search in long lists: one pass over the columns, each gathering
+    !> its elements through an inverse list, de-duplicating rows with a marker array, sorting
+    !> its (short) row list, and writing the element maps through a row-to-position array.
     subroutine build_pattern(pattern, n, dof_ptr, dofs, error)
         type(sparse_pattern_t), intent(out) :: pattern
         integer, intent(in) :: n
         integer, intent(in) :: dof_ptr(:), dofs(:)
         type(error_t), allocatable, intent(out) :: error
-        integer, allocatable :: col_elem_ptr(:), col_elem(:), marker(:), fill(:)
-        integer :: nelem, e, k, j, i, p, q, row, eq, m, count, pos
-        character(len=40) :: text
+        integer, allocatable :: col_elem_ptr(:), col_elem(:), fill(:), rows(:)
+        integer, allocatable :: marker(:), position(:)
+        integer :: nelem, e, k, kl, i, p, q, row, eq, m, first, last, pos, bound
+        character(len=80) :: text
 
         nelem = size(dof_ptr) - 1
         if (n < 1) then
             call fatal_error(error, 'no free degree of freedom: every dof is prescribed')
             return
         end if
+        if (nelem < 0) then
+            call fatal_error(error, 'internal: dof_ptr is empty (it needs nelem + 1 entries)')
+            return
+        end if
+        if (nelem > 0) then
+            if (dof_ptr(1) /= 1 .or. any(dof_ptr(2:) < dof_ptr(:nelem)) .or. &
+                dof_ptr(nelem + 1) - 1 > size(dofs)) then
+                call fatal_error(error, 'internal: dof_ptr is not a list of offsets into dofs')
+                return
+            end if
+        end if
         if (any(dofs > n)) then
-            write (text, '(i0)') n
-            call fatal_error(error, 'internal: equation number above n = '//trim(text))
+            write (text, '(a,i0,a,i0)') 'internal: equation number ', maxval(dofs), &
+                ' above n = ', n
+            call fatal_error(error, trim(text))
             return
         end if
 
-        ! Inverse list: the elements touching each equation.
+        ! Inverse list: the elements touching each equation, and an upper bound on the
+        ! stored entries (every column's elements' rows, counted with repetition).
         allocate (col_elem_ptr(n + 1), source=0)
-        do k = 1, size(dofs)
-            if (dofs(k) > 0) col_elem_ptr(dofs(k) + 1) = col_elem_ptr(dofs(k) + 1) + 1
+        bound = 0
+        do e = 1, nelem
+            m = dof_ptr(e + 1) - dof_ptr(e)
+            do k = dof_ptr(e), dof_ptr(e + 1) - 1
+                if (dofs(k) <= 0) cycle
+                col_elem_ptr(dofs(k) + 1) = col_elem_ptr(dofs(k) + 1) + 1
+                bound = bound + m
+            end do
         end do
         col_elem_ptr(1) = 1
-        do j = 1, n
-            col_elem_ptr(j + 1) = col_elem_ptr(j + 1) + col_elem_ptr(j)
+        do i = 1, n
+            col_elem_ptr(i + 1) = col_elem_ptr(i + 1) + col_elem_ptr(i)
         end do
         allocate (col_elem(col_elem_ptr(n + 1) - 1), fill(n))
         fill = col_elem_ptr(1:n)
@@ -69,89 +90,60 @@ contains
                 fill(eq) = fill(eq) + 1
             end do
         end do
+        deallocate (fill)
 
-        ! Count, then fill, the distinct rows of each column.
-        allocate (marker(n), source=0)
-        allocate (pattern%colptr(n + 1))
-        pattern%colptr(1) = 0
-        do j = 1, n
-            count = 0
-            do p = col_elem_ptr(j), col_elem_ptr(j + 1) - 1
-                e = col_elem(p)
-                do k = dof_ptr(e), dof_ptr(e + 1) - 1
-                    row = dofs(k)
-                    if (row <= 0) cycle
-                    if (marker(row) == j) cycle
-                    marker(row) = j
-                    count = count + 1
-                end do
-            end do
-            pattern%colptr(j + 1) = pattern%colptr(j) + count
-        end do
-        pattern%n = n
-        pattern%nnz = pattern%colptr(n + 1)
-        allocate (pattern%rowind(pattern%nnz))
-        marker = 0
-        do j = 1, n
-            pos = pattern%colptr(j)
-            do p = col_elem_ptr(j), col_elem_ptr(j + 1) - 1
-                e = col_elem(p)
-                do k = dof_ptr(e), dof_ptr(e + 1) - 1
-                    row = dofs(k)
-                    if (row <= 0) cycle
-                    if (marker(row) == j) cycle
-                    marker(row) = j
-                    pos = pos + 1
-                    pattern%rowind(pos) = row - 1
-                end do
-            end do
-            call insertion_sort(pattern%rowind(pattern%colptr(j) + 1:pattern%colptr(j + 1)))
-        end do
-
-        ! Element maps: the value position of every (row, column) pair of each element.
         allocate (pattern%map_ptr(nelem + 1))
         pattern%map_ptr(1) = 1
         do e = 1, nelem
             m = dof_ptr(e + 1) - dof_ptr(e)
             pattern%map_ptr(e + 1) = pattern%map_ptr(e) + m*m
         end do
-        allocate (pattern%map(pattern%map_ptr(nelem + 1) - 1))
-        do e = 1, nelem
-            m = dof_ptr(e + 1) - dof_ptr(e)
-            q = pattern%map_ptr(e)
-            do j = 1, m
-                eq = dofs(dof_ptr(e) + j - 1)
-                do i = 1, m
-                    row = dofs(dof_ptr(e) + i - 1)
-                    if (eq > 0 .and. row > 0) then
-                        pattern%map(q) = find_row(pattern, eq, row)
-                    else
-                        pattern%map(q) = 0
-                    end if
-                    q = q + 1
+        ! Entries in a prescribed column are never visited below and stay 0.
+        allocate (pattern%map(pattern%map_ptr(nelem + 1) - 1), source=0)
+
+        ! Rows of column eq go to rows(first:last) at the running end, so the list stays
+        ! compact; position(row) is then where that row sits, for the element maps.
+        allocate (rows(bound), marker(n), position(n), pattern%colptr(n + 1))
+        marker = 0
+        pattern%colptr(1) = 0
+        last = 0
+        do eq = 1, n
+            first = last + 1
+            do p = col_elem_ptr(eq), col_elem_ptr(eq + 1) - 1
+                e = col_elem(p)
+                do k = dof_ptr(e), dof_ptr(e + 1) - 1
+                    row = dofs(k)
+                    if (row <= 0) cycle
+                    if (marker(row) == eq) cycle
+                    marker(row) = eq
+                    last = last + 1
+                    rows(last) = row
+                end do
+            end do
+            call insertion_sort(rows(first:last))
+            do pos = first, last
+                position(rows(pos)) = pos
+            end do
+            pattern%colptr(eq + 1) = last
+            do p = col_elem_ptr(eq), col_elem_ptr(eq + 1) - 1
+                e = col_elem(p)
+                m = dof_ptr(e + 1) - dof_ptr(e)
+                ! Every local column of e that is equation eq (normally exactly one).
+                do kl = 1, m
+                    if (dofs(dof_ptr(e) + kl - 1) /= eq) cycle
+                    q = pattern%map_ptr(e) + (kl - 1)*m - 1
+                    do i = 1, m
+                        row = dofs(dof_ptr(e) + i - 1)
+                        if (row > 0) pattern%map(q + i) = position(row)
+                    end do
                 end do
             end do
         end do
+        pattern%n = n
+        pattern%nnz = last
+        allocate (pattern%rowind(last))
+        pattern%rowind = rows(1:last) - 1
     end subroutine build_pattern
-
-    !> 1-based position in rowind/values of row `row` in column `col` (both 1-based); binary
-    !> search in the sorted column. The row is known to be there.
-    pure integer function find_row(pattern, col, row) result(pos)
-        type(sparse_pattern_t), intent(in) :: pattern
-        integer, intent(in) :: col, row
-        integer :: lo, hi, mid
-        lo = pattern%colptr(col) + 1
-        hi = pattern%colptr(col + 1)
-        do while (lo < hi)
-            mid = (lo + hi)/2
-            if (pattern%rowind(mid) < row - 1) then
-                lo = mid + 1
-            else
-                hi = mid
-            end if
-        end do
-        pos = lo
-    end function find_row
 
     pure subroutine insertion_sort(a)
         integer, intent(inout) :: a(:)

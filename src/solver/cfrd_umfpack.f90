@@ -12,8 +12,10 @@ module cfrd_umfpack
 
     public :: umfpack_t, rcond_min, umfpack_status_text
 
-    !> Below this reciprocal condition estimate the solution is refused: a few hundred times
-    !> the double-precision unit round-off, below which no digit of the solution is reliable.
+    !> Below this reciprocal condition estimate the solution is refused: about 500 times the
+    !> double-precision machine epsilon (2.2e-16). The error of a solve grows like eps/rcond, so
+    !> below it fewer than three digits could be trusted; the estimate is of the row-scaled
+    !> matrix, so it sees stiffness contrasts and rigid-body modes, not differences of units.
     real(dp), parameter :: rcond_min = 1.0e-13_dp
 
     ! Sizes and indices of umfpack.h (0-based in C, hence the +1 in Fortran).
@@ -120,6 +122,8 @@ contains
         integer(c_int) :: status
         call configure(self)
         call self%release()
+        call check_sizes(pattern, values, error)
+        if (allocated(error)) return
         status = umfpack_di_symbolic(int(pattern%n, c_int), int(pattern%n, c_int), &
                                      pattern%colptr, pattern%rowind, values, self%symbolic, &
                                      self%control, self%info)
@@ -139,6 +143,8 @@ contains
         type(error_t), allocatable, intent(out) :: error
         integer(c_int) :: status
         character(len=120) :: text
+        call check_sizes(pattern, values, error)
+        if (allocated(error)) return
         if (.not. c_associated(self%symbolic)) then
             call self%analyse(pattern, values, error)
             if (allocated(error)) return
@@ -164,6 +170,23 @@ contains
         end if
     end subroutine factorise
 
+    !> C reads and writes whole arrays without bounds checks, so short ones are caught here.
+    pure subroutine check_sizes(pattern, values, error, size_b, size_x)
+        type(sparse_pattern_t), intent(in) :: pattern
+        real(dp), intent(in) :: values(:)
+        type(error_t), allocatable, intent(out) :: error
+        integer, intent(in), optional :: size_b, size_x
+        logical :: short
+        short = .not. allocated(pattern%colptr) .or. .not. allocated(pattern%rowind)
+        if (.not. short) short = size(pattern%colptr) < pattern%n + 1 .or. &
+                                 size(pattern%rowind) < pattern%nnz .or. &
+                                 size(values) < pattern%nnz
+        if (present(size_b)) short = short .or. size_b < pattern%n
+        if (present(size_x)) short = short .or. size_x < pattern%n
+        if (short) call fatal_error(error, 'internal: sparse matrix or vector shorter than '// &
+                                    'its pattern says', numerical_error)
+    end subroutine check_sizes
+
     !> Solve A x = b with the current numeric factorisation.
     subroutine solve(self, pattern, values, b, x, error)
         class(umfpack_t), intent(inout) :: self
@@ -177,6 +200,8 @@ contains
                              numerical_error)
             return
         end if
+        call check_sizes(pattern, values, error, size(b), size(x))
+        if (allocated(error)) return
         status = umfpack_di_solve(umfpack_a, pattern%colptr, pattern%rowind, values, x, b, &
                                   self%numeric, self%control, self%info)
         if (status /= umfpack_ok) then
@@ -237,6 +262,8 @@ contains
             text = 'UMFPACK_ERROR_invalid_system'
         case (-15)
             text = 'UMFPACK_ERROR_invalid_permutation'
+        case (-17)
+            text = 'UMFPACK_ERROR_file_IO'
         case (-18)
             text = 'UMFPACK_ERROR_ordering_failed'
         case (-911)
