@@ -9,7 +9,7 @@ program cfrd_main
     use cfrd_deck, only: read_deck
     use cfrd_stage_driver, only: run_analysis
     use cfrd_results, only: stage_result_t
-    use cfrd_listing, only: write_listing, write_summary
+    use cfrd_listing, only: write_listing, write_summary, write_gauge_csv
     use cfrd_hdf5, only: write_results_h5
     use cfrd_files, only: move_file, delete_file, base_name, strip_extension
     implicit none
@@ -79,7 +79,12 @@ contains
         end if
         if (.not. options%quiet) then
             call write_summary(output_unit, model, results)
-            write (output_unit, '(a)') 'Results: '//stem//'.out, '//stem//'.h5'
+            if (size(model%gauges) > 0) then
+                write (output_unit, '(a)') 'Results: '//stem//'.out, '//stem//'.h5, '// &
+                    stem//'-gauges.csv'
+            else
+                write (output_unit, '(a)') 'Results: '//stem//'.out, '//stem//'.h5'
+            end if
         end if
     end subroutine run_deck
 
@@ -103,14 +108,21 @@ contains
         type(results_t), intent(in) :: results
         type(error_t), allocatable, intent(out) :: error
         character(len=*), parameter :: part = '.part'
+        logical :: gauges
+        gauges = size(model%gauges) > 0
         call write_listing(stem//'.out'//part, model, results, error)
         if (.not. allocated(error)) call write_results_h5(stem//'.h5'//part, model, results, &
                                                           error)
+        if (.not. allocated(error) .and. gauges) &
+            call write_gauge_csv(stem//'-gauges.csv'//part, model, results, error)
         if (.not. allocated(error)) call move_file(stem//'.out'//part, stem//'.out', error)
         if (.not. allocated(error)) call move_file(stem//'.h5'//part, stem//'.h5', error)
+        if (.not. allocated(error) .and. gauges) &
+            call move_file(stem//'-gauges.csv'//part, stem//'-gauges.csv', error)
         if (allocated(error)) then
             call delete_file(stem//'.out'//part)
             call delete_file(stem//'.h5'//part)
+            call delete_file(stem//'-gauges.csv'//part)
         end if
     end subroutine write_results
 

@@ -10,6 +10,7 @@ program cfrd_tests
     use test_io_results, only: collect_io_results
     use test_analysis_rockfill, only: collect_analysis_rockfill
     use test_materials_eb, only: collect_materials_eb
+    use test_analysis_water, only: collect_analysis_water
     implicit none
     character(len=64) :: only_suite, only_test
     type(unittest_t), allocatable :: tests(:)
@@ -45,6 +46,10 @@ program cfrd_tests
     if (wanted('analysis_rockfill')) then
         call collect_analysis_rockfill(tests)
         call run_suite('analysis_rockfill', tests, only_test, npass, nfail)
+    end if
+    if (wanted('analysis_water')) then
+        call collect_analysis_water(tests)
+        call run_suite('analysis_water', tests, only_test, npass, nfail)
     end if
     if (wanted('io_results')) then
         call collect_io_results(tests)

@@ -50,6 +50,9 @@ contains
             s%stress_level = [0.5_dp, 0.97_dp]
             s%near_failure = 1
             s%displacement = reshape([(0.001_dp*i, i=1, 12)], [2, 6])
+            s%displacement_total = s%displacement + 1.0_dp
+            s%date = '1997-05'
+            s%water_level = 660.0_dp
             s%reaction = 0.0_dp*s%displacement
             s%reaction(:, 1:3) = reshape([1.5_dp, 10.0_dp, -0.5_dp, 20.0_dp, -1.0_dp, 12.0_dp], &
                                          [2, 3])

@@ -85,6 +85,15 @@ cases = [
  ("indented-word", sub("   20000.0       0.3", "       inf       0.3"), "{f}:12:1-10: field E of MATERIALS 1: expected a real number, found 'inf'"),
  ("free-extra-field", sub("    1    3    1       0.0       0.0       2.0       0.0", "&1, 3, 1, 0.0, 0.0, 2.0, 0.0, 7"), "{f}:6:31-31: field after Y2 of NODES: expected no more fields (the card has 7), found '7'"),
  ("lone-ampersand", sub("    1    3    1       0.0       0.0       2.0       0.0", "&\n    1    3    1       0.0       0.0       2.0       0.0"), "{f}:6:2-2: field N1 of NODES"),
+ ("water-without-reservoir", sub("GRAVITY\n", "GRAVITY\nSTAGES\nLOAD\nWATER          10.0\n"), "{f}:19: WATER stage, but the deck has no RESERVOIR faces"),
+ ("water-without-level", sub("GRAVITY\n", "GRAVITY\nRESERVOIR\n    1    4\nSTAGES\nLOAD\nWATER\n"), "{f}:21:11-20: field LEVEL of STAGES WATER: expected the reservoir level to reach (m), found ''"),
+ ("reservoir-face", sub("GRAVITY\n", "GRAVITY\nRESERVOIR\n    1    6\n"), "{f}:18:6-10: field FACE of RESERVOIR 1: expected a face from 1 to 4, found '6'"),
+ ("reservoir-element", sub("GRAVITY\n", "GRAVITY\nRESERVOIR\n    3    4\n"), "{f}:18:1-5: field ELEM of RESERVOIR: expected an element from 1 to 2, found '3'"),
+ ("reservoir-cover-group", sub("GRAVITY\n", "GRAVITY\nRESERVOIR\n    1    4SLAB\n"), "{f}:18:11-20: field COVER of RESERVOIR 1: expected blank or an element group (SOIL), found 'SLAB'"),
+ ("reservoir-twice", sub("GRAVITY\n", "GRAVITY\nRESERVOIR\n    1    4\n    1    4\n"), "{f}:19: face 4 of element 1 is wetted twice (first at line 18)"),
+ ("gauge-node", sub("GRAVITY\n", "GRAVITY\nGAUGES\n    9 C1-H5\n"), "{f}:18:1-5: field NODE of GAUGES: expected a node from 1 to 6, found '9'"),
+ ("gauge-name-twice", sub("GRAVITY\n", "GRAVITY\nGAUGES\n    5 C1-H5\n    6 c1-h5\n"), "{f}:19:6-15: field NAME of GAUGES 6: expected a name not used before (line 18), found 'c1-h5'"),
+ ("unknown-stage", sub("GRAVITY\n", "GRAVITY\nSTAGES\nFLOOD\n"), "{f}:18: unknown stage 'FLOOD' in STAGES: expected FILL, LOAD, RESET or WATER"),
 ]
 for old in os.listdir(P):
     os.remove(P + old)

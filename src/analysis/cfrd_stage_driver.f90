@@ -7,9 +7,9 @@ module cfrd_stage_driver
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, numerical_error
     use cfrd_clock, only: wall_seconds
-    use cfrd_strings, only: to_text, real_text, fixed_text
-    use cfrd_model, only: model_t, stage_fill, stage_load, stage_reset, newtop_zero, &
-                          solver_euler, solver_newton
+    use cfrd_strings, only: to_text, real_text, fixed_text, level_text
+    use cfrd_model, only: model_t, stage_fill, stage_load, stage_reset, stage_water, &
+                          newtop_zero, solver_euler, solver_newton, dry_level
     use cfrd_results, only: results_t, stage_result_t, solver_stats_t
     use cfrd_sparse, only: sparse_pattern_t, build_pattern
     use cfrd_umfpack, only: umfpack_t
@@ -19,6 +19,7 @@ module cfrd_stage_driver
     use cfrd_assembly, only: element_box_t, dof_map_t, make_elements, number_equations, &
                              load_set_forces, fill_forces, assemble_tangent, internal_forces, &
                              element_tangents, gather, active_nodes
+    use cfrd_water, only: water_forces, lowest_wet_point
     implicit none
     private
 
@@ -36,14 +37,16 @@ module cfrd_stage_driver
     end interface
 
     !> The evolving state: displacements since the last reset, Gauss-point stresses and
-    !> history, active elements, and the external load applied so far.
+    !> history, active elements, the external load applied so far and the reservoir level.
     type :: state_t
         real(dp), allocatable :: u(:, :)             !! (2, nnode)
+        real(dp), allocatable :: u_before_reset(:, :) !! (2, nnode) sum of u at the resets
         real(dp), allocatable :: stress(:, :, :)     !! (4, ngauss, nelem)
         real(dp), allocatable :: history(:, :, :)    !! (nhistory, ngauss, nelem)
         logical, allocatable :: active(:)            !! (nelem)
         real(dp), allocatable :: f_ext(:, :)         !! (2, nnode) applied so far
         logical :: prescribed_done = .false.         !! BOUNDARY values applied
+        real(dp) :: level = dry_level                !! reservoir level, m
     end type state_t
 
     !> The linear-algebra objects of one active set.
@@ -101,6 +104,7 @@ contains
                 state%active(e) = .not. filled_group(mesh%group(e))
             end do
             allocate (state%u(2, mesh%nnode), state%f_ext(2, mesh%nnode), source=0.0_dp)
+            allocate (state%u_before_reset(2, mesh%nnode), source=0.0_dp)
             allocate (state%stress(4, ngauss, mesh%nelem), source=0.0_dp)
             allocate (state%history(nhistory, ngauss, mesh%nelem), source=0.0_dp)
         end associate
@@ -114,9 +118,10 @@ contains
         type(system_t), intent(inout) :: system
         type(stage_result_t), intent(out) :: result
         type(error_t), allocatable, intent(out) :: error
-        real(dp), allocatable :: stage_force(:, :), f_start(:, :), du_prescribed(:, :)
+        real(dp), allocatable :: stage_force(:, :), f_start(:, :), du_prescribed(:, :), &
+                                 water_before(:, :), water_after(:, :)
         logical, allocatable :: was_used(:)
-        real(dp) :: t0, t1
+        real(dp) :: t0, t1, levels(2)
         integer :: nodes_before
 
         t0 = wall_seconds()
@@ -126,12 +131,27 @@ contains
             allocate (stage_force(2, mesh%nnode), du_prescribed(2, mesh%nnode), source=0.0_dp)
             was_used = active_nodes(model, state%active)
             nodes_before = count(was_used)
+            allocate (water_before(2, mesh%nnode), water_after(2, mesh%nnode))
+            levels = state%level
             select case (stage%kind)
             case (stage_reset)
+                state%u_before_reset = state%u_before_reset + state%u
                 state%u = 0.0_dp
             case (stage_fill)
+                ! The water on the faces the new group wets or covers changes with it.
+                call water_forces(model, library, state%active, state%level, water_before)
                 where (mesh%group == stage%group) state%active = .true.
                 call fill_forces(model, library, stage%group, stage_force)
+                call water_forces(model, library, state%active, state%level, water_after)
+                stage_force = stage_force + water_after - water_before
+            case (stage_water)
+                ! The reservoir moves from its level (the lowest wetted point when it is
+                ! still empty) to the stage's level in equal steps of level.
+                levels(1) = state%level
+                if (levels(1) == dry_level) levels(1) = min(lowest_wet_point(model), &
+                                                            stage%level)
+                levels(2) = stage%level
+                state%level = stage%level
             case (stage_load)
                 call load_set_forces(model, library, model%load_sets(stage%load_set), &
                                      state%active, stage_force)
@@ -154,9 +174,15 @@ contains
                 result%stats%neq = system%pattern%n
                 result%stats%nnz = system%pattern%nnz
                 f_start = state%f_ext
+                if (stage%kind == stage_water) then
+                    call water_forces(model, library, state%active, levels(1), water_before)
+                    f_start = f_start - water_before
+                end if
                 call run_increments(model, library, state, system, f_start, stage_force, &
                                     du_prescribed*stage%increments, stage%increments, s, &
-                                    stage%label, result, error)
+                                    stage%label, result, error, &
+                                    merge(levels, [dry_level, dry_level], &
+                                          stage%kind == stage_water))
                 if (allocated(error)) return
                 ! New layer's own nodes: their displacement during placement is not counted
                 ! (NEWTOP = 0, docs/theory.md section 9).
@@ -167,6 +193,9 @@ contains
                 end if
             end if
             call record(model, library, state, result)
+            result%date = ''
+            if (allocated(stage%date)) result%date = stage%date
+            result%water_level = state%level
             result%wall_time = wall_seconds() - t0
         end associate
     end subroutine run_stage
@@ -174,9 +203,10 @@ contains
     !> The stage's load in `n` equal increments. An increment whose Newton iterations do not
     !> converge is cut in half and retried, at most `max_cutbacks` times in a row; after a
     !> success the step grows back towards the nominal one. Cutbacks are counted in the
-    !> stage's result.
+    !> stage's result. When `levels` is not dry the reservoir moves from levels(1) to
+    !> levels(2) in the same steps, and its forces at the reached level join f_start.
     subroutine run_increments(model, library, state, system, f_start, stage_force, &
-                              du_stage, n, s, label, result, error)
+                              du_stage, n, s, label, result, error, levels)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(inout) :: state
@@ -186,10 +216,13 @@ contains
         character(len=*), intent(in) :: label
         type(stage_result_t), intent(inout) :: result
         type(error_t), allocatable, intent(out) :: error
+        real(dp), intent(in) :: levels(2)
         integer, parameter :: max_cutbacks = 6
-        real(dp) :: done, step, nominal
+        real(dp) :: done, step, nominal, level
+        real(dp), allocatable :: f_water(:, :)
         integer :: cuts, k
         character(len=:), allocatable :: context
+        allocate (f_water(2, model%mesh%nnode), source=0.0_dp)
         nominal = 1.0_dp/n
         step = nominal
         done = 0.0_dp
@@ -200,9 +233,15 @@ contains
             k = k + 1
             context = 'stage '//to_text(s)//' ('//label//'), increment '//to_text(k)// &
                       ' (load fraction '//fixed_text(done)//' to '//fixed_text(done + step)//')'
+            if (levels(2) /= dry_level) then
+                level = levels(1) + (levels(2) - levels(1))*(done + step)
+                if (done + step >= 1.0_dp - 1.0e-12_dp) level = levels(2)
+                call water_forces(model, library, state%active, level, f_water)
+                context = context//', water level '//level_text(level)//' m'
+            end if
             call solve_increment(model, library, state, system, &
-                                 f_start + stage_force*(done + step), du_stage*step, result, &
-                                 context, error)
+                                 f_start + f_water + stage_force*(done + step), &
+                                 du_stage*step, result, context, error)
             if (allocated(error)) then
                 if (index(error%message, 'no convergence') == 0 .or. &
                     cuts == max_cutbacks) return
@@ -625,6 +664,7 @@ contains
             ! Near failure: stress level 0.95 or more (the law caps it at 0.99).
             result%near_failure = count(result%stress_level >= 0.95_dp)
             result%displacement = state%u
+            result%displacement_total = state%u_before_reset + state%u
             result%stress_gauss = state%stress
             allocate (result%stress_centroid(4, mesh%nelem), result%principal(3, mesh%nelem))
             do e = 1, mesh%nelem

@@ -4,7 +4,7 @@ module cfrd_strings
     implicit none
     private
 
-    public :: to_text, real_text, fixed_text
+    public :: to_text, real_text, fixed_text, level_text
 
 contains
 
@@ -34,4 +34,17 @@ contains
         write (buffer, '(f8.5)') x
         s = trim(adjustl(buffer))
     end function fixed_text
+
+    !> An elevation or length with 2 decimals and no blanks: '768.00', '0.50', '-3.25'.
+    pure function level_text(x) result(s)
+        real(dp), intent(in) :: x
+        character(len=:), allocatable :: s
+        character(len=32) :: buffer
+        write (buffer, '(f0.2)') x
+        s = trim(adjustl(buffer))
+        if (s(1:1) == '.') s = '0'//s
+        if (len(s) > 1) then
+            if (s(1:2) == '-.') s = '-0'//s(2:)
+        end if
+    end function level_text
 end module cfrd_strings

@@ -6,7 +6,8 @@ module cfrd_deck
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, input_error
     use cfrd_model, only: model_t, material_t, gravity_load_t, pressure_load_t, load_set_t, &
-                          stage_t, stage_fill, stage_load, stage_reset, newtop_zero, &
+                          stage_t, stage_fill, stage_load, stage_reset, stage_water, &
+                          wet_face_t, gauge_t, newtop_zero, &
                           newtop_count, solver_midpoint, solver_newton, &
                           plane_strain, axisymmetric, law_elastic, law_duncan_eb, elem_quad4, &
                           all_groups
@@ -15,6 +16,7 @@ module cfrd_deck
     use cfrd_cards, only: card_t, field_t, deck_lines_t, int_field, real_field, text_field, &
                           read_deck_lines, classify_line, get_int, get_real, get_text, &
                           field_error, card_error, upper, is_comment, is_real, to_text
+    use cfrd_strings, only: level_text
     implicit none
     private
 
@@ -22,18 +24,19 @@ module cfrd_deck
 
     integer, parameter :: g_title = 1, g_control = 2, g_nodes = 3, g_elements = 4, &
                           g_materials = 5, g_boundary = 6, g_loads = 7, g_stages = 8, &
-                          ngroups = 8
+                          g_reservoir = 9, g_gauges = 10, ngroups = 10
     character(len=10), parameter :: group_keywords(ngroups) = [character(len=10) :: &
                                     'TITLE', 'CONTROL', 'NODES', 'ELEMENTS', 'MATERIALS', &
-                                    'BOUNDARY', 'LOADS', 'STAGES']
+                                    'BOUNDARY', 'LOADS', 'STAGES', 'RESERVOIR', 'GAUGES']
     character(len=*), parameter :: valid_groups = 'TITLE, CONTROL, NODES, ELEMENTS, '// &
-                                   'MATERIALS, BOUNDARY, LOADS, STAGES, END'
+                                   'MATERIALS, BOUNDARY, LOADS, STAGES, RESERVOIR, GAUGES, END'
     logical, parameter :: group_required(ngroups) = [.false., .false., .true., .true., &
-                                                     .true., .true., .false., .false.]
+                                                     .true., .true., .false., .false., &
+                                                     .false., .false.]
     character(len=10), parameter :: load_keywords(3) = [character(len=10) :: 'GRAVITY', &
                                                         'FORCE', 'PRESSURE']
-    character(len=10), parameter :: stage_keywords(3) = [character(len=10) :: 'FILL', &
-                                                         'LOAD', 'RESET']
+    character(len=10), parameter :: stage_keywords(4) = [character(len=10) :: 'FILL', &
+                                                         'LOAD', 'RESET', 'WATER']
     !> At most this many named LOADS groups (load sets).
     integer, parameter :: max_load_sets = 1000
 
@@ -106,6 +109,21 @@ module cfrd_deck
                                 field_t('NINC', 21, 5, int_field), &
                                 field_t('DATE', 26, 10, text_field), &
                                 field_t('LABEL', 36, 45, text_field)]
+    !> A WATER stage card: field 2 is the reservoir level to reach.
+    type(field_t), parameter :: water_stage_fields(5) = [ &
+                                field_t('KEYWORD', 1, 10, text_field), &
+                                field_t('LEVEL', 11, 10, real_field), &
+                                field_t('NINC', 21, 5, int_field), &
+                                field_t('DATE', 26, 10, text_field), &
+                                field_t('LABEL', 36, 45, text_field)]
+    type(field_t), parameter :: reservoir_fields(3) = [ &
+                                field_t('ELEM', 1, 5, int_field), &
+                                field_t('FACE', 6, 5, int_field), &
+                                field_t('COVER', 11, 10, text_field)]
+    type(field_t), parameter :: gauge_fields(3) = [ &
+                                field_t('NODE', 1, 5, int_field), &
+                                field_t('NAME', 6, 10, text_field), &
+                                field_t('LABEL', 16, 65, text_field)]
     type(field_t), parameter :: boundary_fields(7) = [ &
                                 field_t('N1', 1, 5, int_field), &
                                 field_t('N2', 6, 5, int_field), &
@@ -185,6 +203,10 @@ contains
             call read_loads(path, load_groups(i), model, model%load_sets(i), error)
             if (allocated(error)) return
         end do
+        call read_reservoir(path, groups(g_reservoir), model, error)
+        if (allocated(error)) return
+        call read_gauges(path, groups(g_gauges), model, error)
+        if (allocated(error)) return
         call read_stages(path, groups(g_stages), model, error)
         if (allocated(error)) return
         call check_model(path, groups, model, node_line, element_line, error)
@@ -276,7 +298,7 @@ contains
                                         "' in LOADS: expected GRAVITY, FORCE or PRESSURE")
                     else if (current == g_stages) then
                         call card_error(error, lines%file, card, "unknown stage '"//word// &
-                                        "' in STAGES: expected FILL, LOAD or RESET")
+                                        "' in STAGES: expected FILL, LOAD, RESET or WATER")
                     else
                         call card_error(error, lines%file, card, "unknown group '"//word// &
                                         "': expected one of "//valid_groups)
@@ -995,10 +1017,12 @@ contains
         type(error_t), allocatable, intent(out) :: error
         character(len=:), allocatable :: keyword, name, date, label, ctx
         integer :: i, k, g
+        logical :: given
         logical, allocatable :: filled(:)
         if (.not. group%present) then
             allocate (model%stages(1))
             model%stages(1)%label = 'LOADS'
+            model%stages(1)%date = ''
             return
         end if
         if (group%n == 0) then
@@ -1016,6 +1040,7 @@ contains
                 ctx = 'STAGES '//keyword
                 call get_text(card, stage_fields, 4, date)
                 call get_text(card, stage_fields, 5, label)
+                stage%date = date
                 stage%label = keyword
                 if (len(date) > 0) stage%label = stage%label//' '//date
                 if (len(label) > 0) stage%label = stage%label//' '//label
@@ -1056,9 +1081,25 @@ contains
                     if (len(name) > 0) stage%label = 'LOAD '//name//stage%label(5:)
                 case ('RESET')
                     stage%kind = stage_reset
+                case ('WATER')
+                    stage%kind = stage_water
+                    if (size(model%wet_faces) == 0) then
+                        call card_error(error, file, card, 'WATER stage, but the deck has '// &
+                                        'no RESERVOIR faces for the water to act on')
+                        return
+                    end if
+                    call get_real(file, card, water_stage_fields, 2, ctx, 0.0_dp, &
+                                  stage%level, error, given)
+                    if (allocated(error)) return
+                    if (.not. given) then
+                        call field_error(error, file, card, water_stage_fields, 2, ctx, &
+                                         'the reservoir level to reach (m)', '')
+                        return
+                    end if
+                    stage%label = 'WATER '//level_text(stage%level)//stage%label(6:)
                 case default
                     call card_error(error, file, card, "unknown stage '"//keyword// &
-                                    "' in STAGES: expected FILL, LOAD or RESET")
+                                    "' in STAGES: expected FILL, LOAD, RESET or WATER")
                     return
                 end select
                 call get_int(file, card, stage_fields, 3, ctx, 1, stage%increments, error)
@@ -1072,6 +1113,119 @@ contains
             end associate
         end do
     end subroutine read_stages
+
+    !> RESERVOIR: the element faces the reservoir wets, each with the group whose placement
+    !> covers it (blank: never covered).
+    subroutine read_reservoir(file, group, model, error)
+        character(len=*), intent(in) :: file
+        type(group_cards_t), intent(in) :: group
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        character(len=:), allocatable :: name, ctx
+        integer :: i, j
+        allocate (model%wet_faces(group%n))
+        if (group%present .and. group%n == 0) then
+            call fatal_error(error, file//':'//to_text(group%header_line)//': RESERVOIR '// &
+                             'has no face cards', input_error)
+            return
+        end if
+        do i = 1, group%n
+            associate (card => group%cards(i), wet => model%wet_faces(i))
+                call get_int(file, card, reservoir_fields, 1, 'RESERVOIR', 0, wet%element, &
+                             error)
+                if (allocated(error)) return
+                if (wet%element < 1 .or. wet%element > model%mesh%nelem) then
+                    call field_error(error, file, card, reservoir_fields, 1, 'RESERVOIR', &
+                                     'an element from 1 to '//to_text(model%mesh%nelem), &
+                                     raw_text(card, reservoir_fields, 1))
+                    return
+                end if
+                ctx = 'RESERVOIR '//to_text(wet%element)
+                call get_int(file, card, reservoir_fields, 2, ctx, 0, wet%face, error)
+                if (allocated(error)) return
+                if (wet%face < 1 .or. wet%face > 4) then
+                    call field_error(error, file, card, reservoir_fields, 2, ctx, &
+                                     'a face from 1 to 4', raw_text(card, reservoir_fields, 2))
+                    return
+                end if
+                associate (conn => model%mesh%conn(:, wet%element))
+                    if (wet%face == 3 .and. conn(3) == conn(4)) then
+                        call field_error(error, file, card, reservoir_fields, 2, ctx, &
+                                         'face 1, 2 or 4: element '//to_text(wet%element)// &
+                                         ' is a triangle, its face 3 has zero length', '3')
+                        return
+                    end if
+                end associate
+                do j = 1, i - 1
+                    if (model%wet_faces(j)%element == wet%element .and. &
+                        model%wet_faces(j)%face == wet%face) then
+                        call card_error(error, file, card, 'face '//to_text(wet%face)// &
+                                        ' of element '//to_text(wet%element)// &
+                                        ' is wetted twice (first at line '// &
+                                        to_text(group%cards(j)%line)//')')
+                        return
+                    end if
+                end do
+                call get_text(card, reservoir_fields, 3, name)
+                wet%cover = 0
+                if (len(name) > 0) then
+                    wet%cover = position(model%mesh%group_name, upper(name))
+                    if (wet%cover == 0) then
+                        call field_error(error, file, card, reservoir_fields, 3, ctx, &
+                                         'blank or an element group ('// &
+                                         group_list(model%mesh%group_name)//')', name)
+                        return
+                    end if
+                end if
+            end associate
+        end do
+    end subroutine read_reservoir
+
+    !> GAUGES: named observation points at nodes.
+    subroutine read_gauges(file, group, model, error)
+        character(len=*), intent(in) :: file
+        type(group_cards_t), intent(in) :: group
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        character(len=:), allocatable :: name, label
+        integer :: i, j
+        allocate (model%gauges(group%n))
+        if (group%present .and. group%n == 0) then
+            call fatal_error(error, file//':'//to_text(group%header_line)//': GAUGES has '// &
+                             'no gauge cards', input_error)
+            return
+        end if
+        do i = 1, group%n
+            associate (card => group%cards(i), gauge => model%gauges(i))
+                call get_int(file, card, gauge_fields, 1, 'GAUGES', 0, gauge%node, error)
+                if (allocated(error)) return
+                if (gauge%node < 1 .or. gauge%node > model%mesh%nnode) then
+                    call field_error(error, file, card, gauge_fields, 1, 'GAUGES', &
+                                     'a node from 1 to '//to_text(model%mesh%nnode), &
+                                     raw_text(card, gauge_fields, 1))
+                    return
+                end if
+                call get_text(card, gauge_fields, 2, name)
+                if (len(name) == 0) then
+                    call field_error(error, file, card, gauge_fields, 2, &
+                                     'GAUGES '//to_text(gauge%node), 'a gauge name', '')
+                    return
+                end if
+                gauge%name = upper(name)
+                do j = 1, i - 1
+                    if (model%gauges(j)%name == gauge%name) then
+                        call field_error(error, file, card, gauge_fields, 2, &
+                                         'GAUGES '//to_text(gauge%node), &
+                                         'a name not used before (line '// &
+                                         to_text(group%cards(j)%line)//')', name)
+                        return
+                    end if
+                end do
+                call get_text(card, gauge_fields, 3, label)
+                gauge%label = label
+            end associate
+        end do
+    end subroutine read_gauges
 
     subroutine read_pressure(file, card, model, pressure, error)
         character(len=*), intent(in) :: file

@@ -13,7 +13,7 @@ module cfrd_hdf5
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, io_error
     use cfrd_version, only: cfrd_version_string
-    use cfrd_model, only: model_t
+    use cfrd_model, only: model_t, stage_kind_name, dry_level
     use cfrd_results, only: results_t, stage_result_t
     implicit none
     private
@@ -83,6 +83,12 @@ contains
             associate (stage => results%stages(s))
                 call open_group(stages_id, trim(stage_name), stage_id, st)
                 call attr_text(stage_id, 'name', stage%name, st)
+                call attr_text(stage_id, 'kind', stage_kind_name(stage%kind), st)
+                if (allocated(stage%date)) call attr_text(stage_id, 'date', stage%date, st)
+                call attr_int(stage_id, 'reservoir_empty', &
+                              merge(1, 0, stage%water_level == dry_level), st)
+                if (stage%water_level /= dry_level) &
+                    call attr_real(stage_id, 'water_level', [stage%water_level], st)
                 call attr_int(stage_id, 'increments', stage%increments, st)
                 call attr_int(stage_id, 'factorisations', stage%factorisations, st)
                 call attr_int(stage_id, 'iterations', stage%iterations, st)
@@ -95,6 +101,8 @@ contains
                                    'largest Gauss-point stress level of the element', st)
                 call dataset_real2(stage_id, 'displacement', stage%displacement, 'm', &
                                    'ux, uy', st)
+                call dataset_real2(stage_id, 'displacement_total', stage%displacement_total, &
+                                   'm', 'ux, uy since placement (RESETs added back)', st)
                 call dataset_real2(stage_id, 'reaction', stage%reaction, 'kN/m', 'rx, ry', st)
                 call dataset_real3(stage_id, 'stress_gauss', stage%stress_gauss, 'kPa', &
                                    'xx, yy, zz, xy', st)
@@ -118,6 +126,15 @@ contains
             end associate
         end do
         call close_group(stages_id, st)
+
+        if (allocated(model%gauges)) then
+            if (size(model%gauges) > 0) call open_group(file_id, 'gauges', group_id, st)
+            if (size(model%gauges) > 0) then
+                call dataset_names(group_id, 'names', model%gauges%name, st)
+                call dataset_int1(group_id, 'nodes', model%gauges%node, st)
+                call close_group(group_id, st)
+            end if
+        end if
 
         call open_group(file_id, 'run', group_id, st)
         call attr_real(group_id, 'wall_time', [results%wall_time], st)

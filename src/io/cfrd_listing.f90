@@ -6,12 +6,12 @@ module cfrd_listing
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, io_error
     use cfrd_version, only: cfrd_version_string
-    use cfrd_model, only: model_t, law_name
+    use cfrd_model, only: model_t, law_name, dry_level
     use cfrd_results, only: results_t, stage_result_t
     implicit none
     private
 
-    public :: write_listing, write_summary
+    public :: write_listing, write_summary, write_gauge_csv
 
     character(len=*), parameter :: rule = repeat('-', 100)
 
@@ -35,6 +35,7 @@ contains
         call write_echo(unit, model)
         call write_model_summary(unit, model)
         call write_stage_table(unit, model, results)
+        call write_gauge_tables(unit, model, results)
         ! The full tables of the last stage; every stage's state is in the HDF5 file.
         s = size(results%stages)
         call write_stage(unit, model, results%stages(s), s)
@@ -111,25 +112,123 @@ contains
         type(results_t), intent(in) :: results
         integer :: s, node_s, node_x, node_xm
         write (unit, '(/,a,/,a,/,a)') rule, ' STAGES', rule
-        write (unit, '(a)') '  STAGE LABEL                      ACTIVE INC FACT ITER   '// &
-            'MAX RESID  MAX SETTL (m)   NODE     MAX UX (m)   NODE     MIN UX (m)   NODE'// &
-            '  S>=0.95'
+        write (unit, '(a)') '  STAGE LABEL                      DATE       WATER (m) ACTIVE'// &
+            ' INC FACT ITER   MAX RESID  MAX SETTL (m)   NODE     MAX UX (m)   NODE'// &
+            '     MIN UX (m)   NODE  S>=0.95'
         do s = 1, size(results%stages)
             associate (st => results%stages(s))
-                node_s = minloc(st%displacement(2, :), dim=1)
-                node_x = maxloc(st%displacement(1, :), dim=1)
-                node_xm = minloc(st%displacement(1, :), dim=1)
-                write (unit, '(i7,1x,a26,i7,i4,i5,i5,es12.3,3(es15.5,i7),i9)') s, st%name, &
-                    count(st%active), st%increments, st%factorisations, st%iterations, &
-                    st%max_residual, -st%displacement(2, node_s), node_s, &
-                    st%displacement(1, node_x), node_x, st%displacement(1, node_xm), node_xm, &
-                    st%near_failure
+                node_s = minloc(st%displacement_total(2, :), dim=1)
+                node_x = maxloc(st%displacement_total(1, :), dim=1)
+                node_xm = minloc(st%displacement_total(1, :), dim=1)
+                write (unit, '(i7,1x,a26,1x,a10,a10,i7,i4,i5,i5,es12.3,3(es15.5,i7),i9)') s, &
+                    st%name, date_of(st), level_of(st), count(st%active), st%increments, &
+                    st%factorisations, st%iterations, st%max_residual, &
+                    -st%displacement_total(2, node_s), node_s, &
+                    st%displacement_total(1, node_x), node_x, &
+                    st%displacement_total(1, node_xm), node_xm, st%near_failure
             end associate
         end do
         write (unit, '(a,i0,a)') '  (', model%mesh%nelem, ' elements in the mesh; displacements'// &
-            ' since the last RESET; MAX RESID = |out-of-balance force| / |load| after an'// &
-            ' increment; S>=0.95: elements near failure)'
+            ' since each node''s placement, RESETs added back; WATER: reservoir level at the'// &
+            ' end; MAX RESID = |out-of-balance force| / |load| after an increment; S>=0.95:'// &
+            ' elements near failure)'
     end subroutine write_stage_table
+
+    !> Per gauge and stage: horizontal displacement, then settlement, since placement.
+    subroutine write_gauge_tables(unit, model, results)
+        integer, intent(in) :: unit
+        type(model_t), intent(in) :: model
+        type(results_t), intent(in) :: results
+        integer :: s, g, k
+        character(len=*), parameter :: what(2) = [character(len=70) :: &
+            ' GAUGES: HORIZONTAL DISPLACEMENT UX (m, + towards +x, downstream)', &
+            ' GAUGES: SETTLEMENT -UY (m, + downwards)']
+        if (.not. allocated(model%gauges)) return
+        if (size(model%gauges) == 0) return
+        write (unit, '(/,a,/,a,/,a)') rule, ' GAUGES (displacements since placement)', rule
+        write (unit, '(a)') '   NAME         NODE          X (m)          Y (m)  LABEL'
+        do g = 1, size(model%gauges)
+            associate (gauge => model%gauges(g))
+                write (unit, '(3x,a10,i7,2f15.3,2x,a)') gauge%name, gauge%node, &
+                    model%mesh%x(:, gauge%node), gauge%label
+            end associate
+        end do
+        do k = 1, 2
+            write (unit, '(/,a)') trim(what(k))
+            write (unit, '(a,*(a12))') '  STAGE DATE       WATER (m)', &
+                (adjustr(trim(model%gauges(g)%name)), g = 1, size(model%gauges))
+            do s = 1, size(results%stages)
+                associate (st => results%stages(s))
+                    write (unit, '(i7,1x,a10,a10,*(f12.4))') s, date_of(st), level_of(st), &
+                        (merge(1.0_dp, -1.0_dp, k == 1)* &
+                         st%displacement_total(k, model%gauges(g)%node), &
+                         g = 1, size(model%gauges))
+                end associate
+            end do
+        end do
+    end subroutine write_gauge_tables
+
+    !> The gauge histories as CSV (one row per stage) at `path`.
+    subroutine write_gauge_csv(path, model, results, error)
+        character(len=*), intent(in) :: path
+        type(model_t), intent(in) :: model
+        type(results_t), intent(in) :: results
+        type(error_t), allocatable, intent(out) :: error
+        integer :: unit, stat, s, g
+        character(len=256) :: msg
+        character(len=:), allocatable :: level
+        open (newunit=unit, file=path, status='replace', action='write', iostat=stat, &
+              iomsg=msg)
+        if (stat /= 0) then
+            call fatal_error(error, 'cannot write the gauge histories '//path//': '// &
+                             trim(msg), io_error)
+            return
+        end if
+        write (unit, '(a)', advance='no') 'stage,kind_label,date,water_level_m'
+        do g = 1, size(model%gauges)
+            write (unit, '(a)', advance='no') ','//trim(model%gauges(g)%name)//'_ux_m,'// &
+                trim(model%gauges(g)%name)//'_settlement_m'
+        end do
+        write (unit, '(a)') ''
+        do s = 1, size(results%stages)
+            associate (st => results%stages(s))
+                level = ''
+                if (st%water_level /= dry_level) level = trim(adjustl(level_of(st)))
+                write (unit, '(i0,a)', advance='no') s, ',"'//st%name//'",'// &
+                    trim(adjustl(date_of(st)))//','//level
+                do g = 1, size(model%gauges)
+                    write (unit, '(2(a,es16.9))', advance='no') ',', &
+                        st%displacement_total(1, model%gauges(g)%node), ',', &
+                        -st%displacement_total(2, model%gauges(g)%node)
+                end do
+                write (unit, '(a)', iostat=stat, iomsg=msg) ''
+            end associate
+        end do
+        close (unit)
+        if (stat /= 0) call fatal_error(error, 'cannot write the gauge histories '//path// &
+                                        ': '//trim(msg), io_error)
+    end subroutine write_gauge_csv
+
+    !> The stage's date in 10 columns ('-' when it has none).
+    function date_of(stage) result(text)
+        type(stage_result_t), intent(in) :: stage
+        character(len=10) :: text
+        text = '-'
+        if (allocated(stage%date)) then
+            if (len(stage%date) > 0) text = stage%date
+        end if
+    end function date_of
+
+    !> The reservoir level in 10 columns ('empty' before the first WATER stage).
+    function level_of(stage) result(text)
+        type(stage_result_t), intent(in) :: stage
+        character(len=10) :: text
+        if (stage%water_level == dry_level) then
+            text = '     empty'
+        else
+            write (text, '(f10.2)') stage%water_level
+        end if
+    end function level_of
 
     subroutine write_stage(unit, model, stage, number)
         integer, intent(in) :: unit, number
@@ -138,11 +237,13 @@ contains
         integer :: node, e
         real(dp) :: imbalance
         write (unit, '(/,a,/,a,i4,2a,/,a)') rule, ' STAGE', number, '   ', stage%name, rule
-        write (unit, '(/,a,/,a)') ' NODE DISPLACEMENTS', &
-            '   NODE          X (m)          Y (m)         UX (m)         UY (m)'
+        write (unit, '(/,a,/,a)') ' NODE DISPLACEMENTS (UX, UY since the last RESET; TOTAL:'// &
+            ' since placement)', &
+            '   NODE          X (m)          Y (m)         UX (m)         UY (m)'// &
+            '   UX TOTAL (m)   UY TOTAL (m)'
         do node = 1, model%mesh%nnode
-            write (unit, '(i7,2f15.4,2es15.6)') node, model%mesh%x(:, node), &
-                stage%displacement(:, node)
+            write (unit, '(i7,2f15.4,4es15.6)') node, model%mesh%x(:, node), &
+                stage%displacement(:, node), stage%displacement_total(:, node)
         end do
         write (unit, '(/,a,/,a,/,a)') ' ELEMENT STRESSES AT CENTROIDS (kPa, tension positive;'// &
             ' ANGLE of SIGMA1 from x, degrees)', &
@@ -177,30 +278,33 @@ contains
         end associate
     end subroutine write_stage
 
-    !> A short result table for the terminal: extreme displacements and principal stresses
-    !> and where they occur, the reaction balance and the solver's times.
+    !> A short result table for the terminal: extreme displacements (since placement) and
+    !> principal stresses and where they occur, the reaction balance, the gauge histories
+    !> (one row per calendar date: the last stage of each date) and the solver's times.
     subroutine write_summary(unit, model, results)
         integer, intent(in) :: unit
         type(model_t), intent(in) :: model
         type(results_t), intent(in) :: results
-        integer :: node, e
+        integer :: node, e, s, g
         real(dp) :: imbalance
         associate (stage => results%stages(size(results%stages)), mesh => model%mesh)
             write (unit, '(a)') 'cfrd '//cfrd_version_string//': '//model%deck_file// &
                 ' -- '//model%title
             write (unit, '(a,i0,a,i0,a,i0,a)') '  ', mesh%nnode, ' nodes, ', mesh%nelem, &
                 ' elements, ', stage%stats%neq, ' equations'
+            write (unit, '(a)') '  at the end of the last stage '//trim(date_of(stage))// &
+                ', reservoir '//trim(adjustl(level_of(stage)))//'; displacements since placement'
             write (unit, '(a)') '  quantity                          value   node/elem'// &
                 '         x (m)         y (m)'
-            node = minloc(stage%displacement(2, :), dim=1)
+            node = minloc(stage%displacement_total(2, :), dim=1)
             write (unit, '(a,es14.5,i12,2f14.3)') '  max settlement (-uy), m    ', &
-                -stage%displacement(2, node), node, mesh%x(:, node)
-            node = maxloc(stage%displacement(1, :), dim=1)
+                -stage%displacement_total(2, node), node, mesh%x(:, node)
+            node = maxloc(stage%displacement_total(1, :), dim=1)
             write (unit, '(a,es14.5,i12,2f14.3)') '  max ux (+x), m             ', &
-                stage%displacement(1, node), node, mesh%x(:, node)
-            node = minloc(stage%displacement(1, :), dim=1)
+                stage%displacement_total(1, node), node, mesh%x(:, node)
+            node = minloc(stage%displacement_total(1, :), dim=1)
             write (unit, '(a,es14.5,i12,2f14.3)') '  min ux (-x), m             ', &
-                stage%displacement(1, node), node, mesh%x(:, node)
+                stage%displacement_total(1, node), node, mesh%x(:, node)
             e = maxloc(stage%principal(1, :), dim=1)
             write (unit, '(a,es14.5,i12,2f14.3)') '  max sigma1 (tension +), kPa', &
                 stage%principal(1, e), e, centroid(e)
@@ -212,10 +316,30 @@ contains
             write (unit, '(a,2es14.5)') '  applied load (x, y), kN/m  ', stage%applied_load
             write (unit, '(a,2es14.5)') '  sum of reactions, kN/m     ', stage%reaction_sum
             write (unit, '(a,es14.5)') '  relative imbalance         ', imbalance
-            write (unit, '(a,f10.4,a,f8.4,a,f8.4,a,i0,a)') '  time', results%wall_time, &
+            if (allocated(model%gauges)) then
+                if (size(model%gauges) > 0) then
+                    write (unit, '(a)') '  gauges: ux (m, + downstream) / settlement (m, + down)'
+                    write (unit, '(a,*(a16))') '  date       water (m)', &
+                        (adjustr(trim(model%gauges(g)%name)//'   '), g = 1, size(model%gauges))
+                    do s = 1, size(results%stages)
+                        if (s < size(results%stages)) then
+                            if (date_of(results%stages(s)) == &
+                                date_of(results%stages(s + 1))) cycle
+                        end if
+                        associate (st => results%stages(s))
+                            write (unit, '(2x,a10,a10,*(f8.3,"/",f7.3))') date_of(st), &
+                                level_of(st), (st%displacement_total(1, model%gauges(g)%node), &
+                                               -st%displacement_total(2, model%gauges(g)%node), &
+                                               g = 1, size(model%gauges))
+                        end associate
+                    end do
+                end if
+            end if
+            write (unit, '(a,f10.4,a,f8.4,a,f8.4,a,i0,a,i0,a)') '  time', results%wall_time, &
                 ' s (assembly', sum(results%stages%stats%t_assembly), ' s, factorisation', &
                 sum(results%stages%stats%t_symbolic + results%stages%stats%t_numeric), &
-                ' s, ', size(results%stages), ' stages)'
+                ' s, ', size(results%stages), ' stages, ', sum(results%stages%increments), &
+                ' increments)'
         end associate
     contains
         function centroid(e) result(c)

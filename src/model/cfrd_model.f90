@@ -8,7 +8,8 @@ module cfrd_model
     private
 
     public :: model_t, mesh_t, material_t, gravity_load_t, pressure_load_t, load_set_t
-    public :: stage_t, stage_fill, stage_load, stage_reset, stage_kind_name
+    public :: stage_t, stage_fill, stage_load, stage_reset, stage_water, stage_kind_name
+    public :: wet_face_t, gauge_t, dry_level
     public :: plane_strain, axisymmetric, law_elastic, law_duncan_eb, elem_quad4, all_groups
     public :: newtop_count, newtop_zero, solver_midpoint, solver_euler, solver_newton
     public :: law_name
@@ -25,6 +26,10 @@ module cfrd_model
     integer, parameter :: stage_fill = 1    !! activate an element group under its own weight
     integer, parameter :: stage_load = 2    !! apply a load set
     integer, parameter :: stage_reset = 3   !! zero the displacements, keep the stresses
+    integer, parameter :: stage_water = 4   !! raise or lower the reservoir to a level
+
+    !> The reservoir level before any WATER stage: below everything (no water).
+    real(dp), parameter :: dry_level = -huge(1.0_dp)
 
     !> How the displacement of a new layer's own nodes during its placement counts
     !> (CONTROL field NEWTOP, docs/theory.md section 9).
@@ -94,13 +99,33 @@ module cfrd_model
         type(pressure_load_t), allocatable :: pressures(:)
     end type load_set_t
 
+    !> An element face the reservoir wets (a RESERVOIR card): hydrostatic pressure
+    !> gamma_w (level - y) acts on its part below the level while the element is active
+    !> and, if `cover` names a group, until that group is placed (a slab phase that covers
+    !> a cushion face).
+    type :: wet_face_t
+        integer :: element = 0
+        integer :: face = 0           !! 1..4, as for PRESSURE
+        integer :: cover = 0          !! index into mesh%group_name, 0 = never covered
+    end type wet_face_t
+
+    !> A named observation point at a node (a GAUGES card), whose displacement history is
+    !> tabulated per stage.
+    type :: gauge_t
+        character(len=10) :: name = ''
+        integer :: node = 0
+        character(len=:), allocatable :: label
+    end type gauge_t
+
     !> One construction or loading stage (a STAGES card).
     type :: stage_t
         integer :: kind = stage_load
         integer :: group = 0          !! element group activated (FILL)
         integer :: load_set = 1       !! load set applied (LOAD)
+        real(dp) :: level = 0.0_dp    !! reservoir level reached (WATER), m
         integer :: increments = 1
         character(len=:), allocatable :: label
+        character(len=:), allocatable :: date   !! calendar date as written, may be ''
         integer :: line = 0           !! deck line, for messages
     end type stage_t
 
@@ -121,6 +146,8 @@ module cfrd_model
         !> Stages in order; a deck without STAGES has one LOAD stage of the default set with
         !> every element active.
         type(stage_t), allocatable :: stages(:)
+        type(wet_face_t), allocatable :: wet_faces(:)   !! RESERVOIR cards
+        type(gauge_t), allocatable :: gauges(:)         !! GAUGES cards
         integer :: newtop = newtop_zero
         integer :: solver = solver_midpoint
         real(dp) :: tolerance = 1.0e-6_dp     !! Newton: residual / load, SOLVER = 3
@@ -154,6 +181,8 @@ contains
             name = 'LOAD'
         case (stage_reset)
             name = 'RESET'
+        case (stage_water)
+            name = 'WATER'
         case default
             name = 'UNKNOWN'
         end select

@@ -32,7 +32,12 @@ module cfrd_results
         logical, allocatable :: active(:)          !! (nelem) element active at the stage's end
         real(dp), allocatable :: stress_level(:)   !! (nelem) largest Gauss-point stress level
         integer :: near_failure = 0                !! elements with stress level >= 0.95
-        real(dp), allocatable :: displacement(:, :)   !! (2, nnode) m
+        character(len=:), allocatable :: date      !! the stage's calendar date, may be ''
+        real(dp) :: water_level = 0.0_dp           !! reservoir level at the end, m (dry_level: empty)
+        real(dp), allocatable :: displacement(:, :)   !! (2, nnode) m, since the last RESET
+        !> (2, nnode) m, since each node's placement: the displacements set to zero by
+        !> RESET stages are added back (what a gauge installed with the fill measures)
+        real(dp), allocatable :: displacement_total(:, :)
         real(dp), allocatable :: reaction(:, :)       !! (2, nnode) kN/m, zero at free dofs
         real(dp), allocatable :: stress_gauss(:, :, :) !! (4, ngauss=4, nelem) kPa
         real(dp), allocatable :: stress_centroid(:, :) !! (4, nelem) kPa
