@@ -4,7 +4,7 @@
 SHELL := /bin/bash
 .DEFAULT_GOAL := run
 
-DECK ?= inputs/embankment-eb.dat
+DECK ?= inputs/tianshengqiao-x1.dat
 APT_PACKAGES := gfortran libsuitesparse-dev libhdf5-dev liblapack-dev libblas-dev \
                 pkg-config calculix-ccx libopenblas0-pthread
 PIP_PACKAGES := fpm numpy scipy matplotlib h5py

@@ -102,5 +102,8 @@ tool_checks "eb reference" python3 tools/eb_reference.py --selftest
 tool_checks "eb plane strain" python3 tools/eb_reference.py --check-cfrd "$cfrd" \
     --workdir "$work/eb"
 
+tool_checks "tianshengqiao" python3 tools/check_tianshengqiao.py --run "$cfrd" \
+    --workdir "$work/tianshengqiao"
+
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

@@ -1,0 +1,214 @@
+#!/usr/bin/env python3
+"""Independent checks of a Tianshengqiao-I run (issue 5, section 4), from its deck and its
+HDF5 results:
+
+  weight   the weight of what has been placed at each stage: element areas (shoelace, exact
+           for straight-sided quads) times the unit weights of the deck's materials;
+  water    the reservoir's resultant at each level in closed form: horizontal gamma_w h^2/2
+           (h = level - base), vertical the weight of the water above the wetted face
+           polyline (the exact integral of gamma_w (level - y) dx along its straight pieces);
+           the wetted faces are worked out here from the RESERVOIR cards, the active flags
+           and the cover groups;
+  applied  cfrd's applied load minus the weight must equal the water resultant (1e-9 of
+           the water resultant);
+  balance  the base reactions must balance weight plus water at every stage (1e-9 of the
+           total), for a run whose increments are converged (SOLVER = 3);
+  finding  the paper's finding: largest settlement near mid-height, of order 3 m (observed
+           about 3 m in August 1999): reported, and asserted within 25 % and between 0.4 and
+           0.65 of the height.
+
+    python3 tools/check_tianshengqiao.py DECK RESULTS.h5 [--balance] [--finding]
+    python3 tools/check_tianshengqiao.py --run CFRD --workdir DIR      (what make test runs)
+
+--run generates the x1 deck (it must equal inputs/tianshengqiao-x1.dat byte for byte: the
+committed deck is what the geometry file says), runs it with the paper's midpoint method
+(water-load and finding checks) and its Newton variant (reaction balance, which needs
+converged increments: the midpoint method carries each increment's out-of-balance force
+into the next).
+
+Prints one PASS/FAIL line per check; exit status 1 if any failed.
+"""
+
+import argparse
+import sys
+
+import h5py
+import numpy as np
+
+GAMMA_W_DEFAULT = 9.81
+
+
+def read_deck(path):
+    """Materials' unit weights, element materials and groups, RESERVOIR faces, gamma_w."""
+    lines = open(path).read().split("\n")
+    group = None
+    weights, wet, mat_cards = {}, [], []
+    gamma_w = GAMMA_W_DEFAULT
+    for line in lines:
+        if not line or line.startswith("*"):
+            continue
+        word = line[:10].strip().upper()
+        if word in ("TITLE", "CONTROL", "NODES", "ELEMENTS", "MATERIALS", "BOUNDARY",
+                    "LOADS", "STAGES", "RESERVOIR", "GAUGES", "END"):
+            group = word
+            continue
+        if group == "CONTROL" and line[30:40].strip():
+            gamma_w = float(line[30:40])
+        elif group == "MATERIALS":
+            mat_cards.append(line)
+        elif group == "RESERVOIR":
+            wet.append((int(line[0:5]), int(line[5:10]), line[10:20].strip().upper()))
+    k = 0
+    while k < len(mat_cards):
+        number, law = int(mat_cards[k][0:5]), mat_cards[k][5:15].strip().upper()
+        if law == "EB":
+            weights[number] = float(mat_cards[k + 1][0:10])
+            k += 3
+        else:
+            weights[number] = float(mat_cards[k + 1][20:30] or 0.0)
+            k += 2
+    return weights, wet, gamma_w
+
+
+def polygon_area(p):
+    x, y = p[:, 0], p[:, 1]
+    return 0.5 * (np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+
+
+def water_resultant(xy, conn, group, group_names, active, wet, level, gamma_w):
+    """(Fx, Fy) of the reservoir at `level` on the wetted faces, exact."""
+    placed = {group_names[g - 1] for g in set(group[active]) if g > 0}
+    fx = fy = 0.0
+    for elem, face, cover in wet:
+        e = elem - 1
+        if not active[e] or (cover and cover in placed):
+            continue
+        a, b = conn[e, face - 1], conn[e, face % 4]
+        (xa, ya), (xb, yb) = xy[a], xy[b]
+        # pressure p = gamma_w (level - y)+ on a -> b; inward normal * length = (-dy, dx)
+        if ya >= level and yb >= level:
+            continue
+        s0, s1 = 0.0, 1.0
+        if ya > level or yb > level:
+            cut = (level - ya) / (yb - ya)
+            s0, s1 = (0.0, cut) if ya < level else (cut, 1.0)
+        pa = gamma_w * (level - (ya + s0 * (yb - ya)))
+        pb = gamma_w * (level - (ya + s1 * (yb - ya)))
+        mean = 0.5 * (pa + pb) * (s1 - s0)      # integral of p ds over the wet part
+        fx += mean * (-(yb - ya))
+        fy += mean * (xb - xa)
+    return np.array([fx, fy])
+
+
+def run_suite(cfrd, workdir):
+    """Generate, run and check the x1 deck and its Newton variant."""
+    import filecmp
+    import os
+    import subprocess
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    os.makedirs(workdir, exist_ok=True)
+    gen = os.path.join(root, "tools", "tianshengqiao.py")
+    ok = True
+    mid = os.path.join(workdir, "tianshengqiao-x1.dat")
+    newton = os.path.join(workdir, "tianshengqiao-x1-newton.dat")
+    subprocess.run([sys.executable, gen, "--refine", "1", "--deck", mid], check=True)
+    subprocess.run([sys.executable, gen, "--refine", "1", "--solver", "newton", "--deck",
+                    newton], check=True)
+    same = filecmp.cmp(mid, os.path.join(root, "inputs", "tianshengqiao-x1.dat"), shallow=False)
+    print(("PASS" if same else "FAIL") + " tsq/deck-matches-geometry: inputs/tianshengqiao-x1.dat"
+          + (" is" if same else " is NOT") + " what tools/tianshengqiao.py makes of"
+          " inputs/tianshengqiao-i.toml")
+    ok &= same
+    for deck, extra in ((mid, ["--finding"]), (newton, ["--balance", "--label", "tsq-newton"])):
+        run = subprocess.run([cfrd, "--quiet", "--out", workdir, deck], capture_output=True,
+                             text=True)
+        if run.returncode != 0:
+            print(f"FAIL tsq/run {os.path.basename(deck)}: exit {run.returncode}: "
+                  f"{run.stderr[:300]}")
+            ok = False
+            continue
+        h5 = deck[:-4] + ".h5"
+        ok &= main([deck, h5] + extra) == 0
+    return 0 if ok else 1
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser()
+    parser.add_argument("deck", nargs="?")
+    parser.add_argument("results", nargs="?")
+    parser.add_argument("--balance", action="store_true")
+    parser.add_argument("--finding", action="store_true")
+    parser.add_argument("--label", default="tsq")
+    parser.add_argument("--run", metavar="CFRD")
+    parser.add_argument("--workdir", default="build/tsq-check")
+    args = parser.parse_args(argv)
+    if args.run:
+        return run_suite(args.run, args.workdir)
+    weights, wet, gamma_w = read_deck(args.deck)
+    ok = True
+    with h5py.File(args.results, "r") as h5:
+        xy = h5["mesh/coordinates"][...]
+        conn = h5["mesh/connectivity"][...] - 1
+        mat = h5["mesh/material"][...]
+        group = h5["mesh/group"][...]
+        names = [n.decode().strip() if isinstance(n, bytes) else str(n).strip()
+                 for n in h5["mesh/group_names"][...]]
+        area = np.array([polygon_area(xy[c]) for c in conn])
+        unit = np.array([weights[m] for m in mat])
+        base = xy[:, 1].min()
+        worst_applied = worst_balance = 0.0
+        nwater = 0
+        stages = sorted(h5["stages"])
+        for s in stages:
+            g = h5["stages"][s]
+            active = g["active"][...].astype(bool)
+            weight = float(np.sum(area[active] * unit[active]))
+            applied = np.asarray(g.attrs["applied_load"], dtype=float)
+            reactions = np.asarray(g.attrs["reaction_sum"], dtype=float)
+            water = np.zeros(2)
+            if int(g.attrs["reservoir_empty"]) == 0:
+                level = float(np.ravel(g.attrs["water_level"])[0])
+                water = water_resultant(xy, conn, group, names, active, wet, level, gamma_w)
+                h = level - base
+                closed = gamma_w * h * h / 2.0
+                if abs(water[0] - closed) > 1e-12 * closed:
+                    print(f"FAIL {args.label}/water-horizontal: {s}: face polyline gives "
+                          f"{water[0]:.6f}, gamma_w h^2/2 = {closed:.6f}")
+                    ok = False
+                nwater += 1
+                worst_applied = max(worst_applied, np.linalg.norm(
+                    applied - np.array([0.0, -weight]) - water) / np.linalg.norm(water))
+            total = np.array([0.0, -weight]) + water
+            worst_balance = max(worst_balance,
+                                np.linalg.norm(reactions + total) / np.linalg.norm(total))
+        print(("PASS" if worst_applied <= 1e-9 else "FAIL")
+              + f" {args.label}/water-load: {nwater} stages with water: max |applied - weight"
+              f" - water| / |water| = {worst_applied:.2e} (tol 1e-9; closed form gamma_w h^2/2"
+              f" and the water wedge over the wetted faces)")
+        ok &= worst_applied <= 1e-9
+        if args.balance:
+            print(("PASS" if worst_balance <= 1e-9 else "FAIL")
+                  + f" {args.label}/reactions: {len(stages)} stages: max |reactions + weight +"
+                  f" water| / |weight + water| = {worst_balance:.2e} (tol 1e-9; shoelace"
+                  f" weights, closed-form water)")
+            ok &= worst_balance <= 1e-9
+        if args.finding:
+            g = h5["stages"][stages[-1]]
+            u = g["displacement_total"][...]
+            active = g["active"][...].astype(bool)
+            used = np.unique(conn[active])
+            k = used[np.argmin(u[used, 1])]
+            settlement = -u[k, 1]
+            height = xy[:, 1].max() - base
+            rel = (xy[k, 1] - base) / height
+            good = abs(settlement - 3.0) <= 0.25 * 3.0 and 0.4 <= rel <= 0.65
+            print(("PASS" if good else "FAIL")
+                  + f" {args.label}/paper-finding: max settlement {settlement:.3f} m at El."
+                  f" {xy[k, 1]:.1f} m ({rel:.2f} of the height) vs about 3 m near mid-height"
+                  f" observed in August 1999 (paper, Fig. 7; band 25 %, 0.40-0.65 H)")
+            ok &= good
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,638 @@
+#!/usr/bin/env python3
+"""Mesh generator and deck writer for the Tianshengqiao-I section (issue 5).
+
+Reads the geometry file inputs/tianshengqiao-i.toml (every number that shapes the model,
+with its source) and writes a complete cfrd deck: nodes, quads with their zones and fill
+groups, the E-B and slab materials, the fixed base, the wetted faces of the reservoir, the
+observation points and the construction and impounding history of the paper's Table 2.
+
+The mesh (docs/tianshengqiao.md):
+  * rows of the dam body follow elevation: one row per slab element along the slope below
+    the phase III top, one row above it to the crest (24 rows at x1);
+  * mesh lines parallel to the upstream face bound the IIA and IIIA bands (exact zones);
+    further lines parallel to the upstream and to the downstream face are born, going down
+    from the crest, wherever the central column grows wider than `split_width`: the row
+    where they are born is a 3-to-1 quad transition, so the body is quads only;
+  * the slab lies on the cushion face, two element layers through its thickness, one
+    element per body row along the slope; its cross-lines are horizontal (the face's
+    horizontal thickness is t sqrt(1 + s^2) for the normal thickness t);
+  * refinement xR splits every x1 quad into R x R by its bilinear map, so each refined mesh
+    holds the x1 mesh's lines, zones, groups and fill layers exactly.
+
+Interfaces: --interface bonded (this issue: the slab shares the cushion's nodes). The
+joint, thin-layer and contact variants come with issues 6 and 7.
+
+CLI:
+  python3 tools/tianshengqiao.py --refine 1 --deck inputs/tianshengqiao-x1.dat
+  python3 tools/tianshengqiao.py --refine 2 --report        # mesh quality only
+"""
+
+import argparse
+import math
+import sys
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from embankment import fmt_int, fmt_real, fmt_alpha  # noqa: E402  (fixed-width fields)
+
+GEOMETRY = Path(__file__).resolve().parent.parent / "inputs" / "tianshengqiao-i.toml"
+GRAVITY_G = 9.81            # m/s2: density (kg/m3) * g / 1000 = unit weight (kN/m3)
+GAMMA_W = 9.81              # kN/m3, unit weight of water
+ZONES = ["IIA", "IIIA", "IIIB", "IIIC", "IIID"]     # material numbers 1..5; the slab is 6
+SLAB_MATERIAL = 6
+
+
+# --------------------------------------------------------------------------------------
+# The geometry file
+# --------------------------------------------------------------------------------------
+
+class Geometry:
+    """Values of the geometry file; `choices` lists every [choice] for the deck header."""
+
+    def __init__(self, path=GEOMETRY):
+        self.path = Path(path)
+        with open(self.path, "rb") as handle:
+            self.raw = tomllib.load(handle)
+        self.choices = []
+        self.sources = []
+        for group in ("section", "slab", "zones", "mesh", "increments"):
+            for key, item in self.raw[group].items():
+                self.sources.append((f"{group}.{key}", item["value"], item["source"],
+                                     item.get("note", "")))
+        for key, item in self.raw["materials"].items():
+            self.sources.append((f"materials.{key}", item["label"], item["source"], ""))
+
+    def v(self, group, key):
+        return self.raw[group][key]["value"]
+
+    @property
+    def crest(self):
+        return self.v("section", "crest_elevation")
+
+    @property
+    def base(self):
+        return self.crest - self.v("section", "height")
+
+    @property
+    def su(self):
+        return self.v("section", "upstream_slope")
+
+    @property
+    def sd(self):
+        return self.v("section", "downstream_slope")
+
+    def x_up(self, y):
+        """x of the cushion face (upstream face of the body) at elevation y."""
+        return self.su * (y - self.base)
+
+    def x_down(self, y):
+        """x of the downstream face at elevation y."""
+        top_right = self.x_up(self.crest) + self.v("section", "crest_width")
+        return top_right + self.sd * (self.crest - y)
+
+    def slab_thickness(self, y):
+        return self.v("slab", "t0") + self.v("slab", "rate") * (self.crest - y)
+
+    def row_lines(self):
+        """Elevations of the x1 row lines, base to crest."""
+        tops = self.v("slab", "phase_tops")
+        counts = self.v("slab", "phase_elements")
+        lines = [self.base]
+        bottom = self.base
+        for top, n in zip(tops, counts):
+            lines += [bottom + (top - bottom) * k / n for k in range(1, n + 1)]
+            bottom = top
+        if self.crest > bottom + 1e-9:
+            lines.append(self.crest)
+        return np.array(lines)
+
+
+# --------------------------------------------------------------------------------------
+# The mesh
+# --------------------------------------------------------------------------------------
+
+@dataclass
+class Quad:
+    nodes: tuple            # 4 node keys, counter-clockwise
+    kind: str               # 'body' or 'slab'
+    band: int               # x1 row (0 = bottom row)
+    material: int = 0       # 1..6
+    group: str = ""         # fill group (B1R03, SLAB1, ...)
+    wet_face4: bool = False  # face 4 (node 4 -> node 1) is on the reservoir side
+    cover: str = ""         # group whose placement covers the wet face
+    column: int = -1        # body: 0 = IIA band, 1 = IIIA band, else -1
+
+
+@dataclass
+class Mesh:
+    coords: dict = field(default_factory=dict)     # node key -> (x, y)
+    quads: list = field(default_factory=list)
+
+    def point(self, key, xy):
+        if key not in self.coords:
+            self.coords[key] = (float(xy[0]), float(xy[1]))
+        return key
+
+
+def build_x1(geo):
+    """The x1 mesh: body rows with 3-to-1 transitions, the slab on the cushion face."""
+    mesh = Mesh()
+    y = geo.row_lines()
+    nband = len(y) - 1
+    bands_top = nband - 1
+    split = geo.v("mesh", "split_width")
+    frac = geo.v("mesh", "transition_height")
+    a = [0.0, geo.v("zones", "IIA_width"), geo.v("zones", "IIA_width") + geo.v("zones", "IIIA_width")]
+    b = [0.0]
+    # Line families: an upstream line has a constant horizontal offset from the cushion
+    # face, a downstream line from the downstream face. lines_at[j] = (a, b) on row line j.
+    u_born = {0: 0, 1: 0, 2: 0}     # index in a -> band where the line is born (bottom end)
+    births = {}                      # band -> (new a, new b) born at its bottom
+    for j in range(bands_top, -1, -1):
+        width = geo.x_down(y[j]) - geo.x_up(y[j])
+        gap = width - a[-1] - b[-1]
+        if gap > split:
+            # The new lines start one slope-run of the row from the old ones, so that each
+            # ends right below the old line's top node (transition quads stay convex with
+            # angles no smaller than the face's).
+            h = y[j + 1] - y[j]
+            births[j] = (a[-1] + geo.su * h, b[-1] + geo.sd * h)
+            a.append(a[-1] + geo.su * h)
+            b.append(b[-1] + geo.sd * h)
+    # Offsets present on row line j: those born at a band below j or never born (initial).
+    # Walk the bands again bottom-up with the birth record.
+    a_all = a
+    b_all = b
+    n_initial_a = 3
+    born_band_a = {}
+    born_band_b = {}
+    k = n_initial_a
+    kb = 1
+    for j in range(bands_top, -1, -1):
+        if j in births:
+            born_band_a[k] = j
+            born_band_b[kb] = j
+            k += 1
+            kb += 1
+
+    def lines_on(j, include_born_here):
+        """Offsets (a, b) present on row line j (j = bottom of band j)."""
+        aa = [a_all[i] for i in range(len(a_all))
+              if i < n_initial_a or born_band_a[i] > j or (include_born_here and born_band_a[i] == j)]
+        bb = [b_all[i] for i in range(len(b_all))
+              if i < 1 or born_band_b[i] > j or (include_born_here and born_band_b[i] == j)]
+        return aa, bb
+
+    def row_keys(j, aa, bb):
+        """Node keys and points along row line j, upstream to downstream."""
+        yy = y[j]
+        keys = []
+        for off in aa:
+            keys.append(mesh.point(("u", round(off, 9), j), (geo.x_up(yy) + off, yy)))
+        for off in reversed(bb):
+            keys.append(mesh.point(("d", round(off, 9), j), (geo.x_down(yy) - off, yy)))
+        return keys
+
+    for j in range(nband):
+        aa_top, bb_top = lines_on(j + 1, True)
+        aa_bot, bb_bot = lines_on(j, True)
+        top = row_keys(j + 1, aa_top, bb_top)
+        bot = row_keys(j, aa_bot, bb_bot)
+        if j in births:
+            # bottom: ... A_last, A_new, B_new, B_last ...; top: ... A_last, B_last ...
+            ia = len(aa_top) - 1        # index of A_last in both rows
+            assert len(bot) == len(top) + 2
+            # Interior nodes at `frac` of the row height, shifted inwards from the
+            # vertical through the new line's foot by `frac`/2 of its slope run.
+            h = y[j + 1] - y[j]
+            ym = y[j] + frac * h
+            xa_new = mesh.coords[bot[ia + 1]][0]
+            xb_new = mesh.coords[bot[ia + 2]][0]
+            p1 = mesh.point(("p1", j), (xa_new + 0.5 * frac * geo.su * h, ym))
+            p2 = mesh.point(("p2", j), (xb_new - 0.5 * frac * geo.sd * h, ym))
+            for c in range(ia):
+                mesh.quads.append(Quad((bot[c], bot[c + 1], top[c + 1], top[c]), "body", j,
+                                       column=c if c < 2 else -1))
+            A, An, Bn, B = bot[ia], bot[ia + 1], bot[ia + 2], bot[ia + 3]
+            At, Bt = top[ia], top[ia + 1]
+            mesh.quads.append(Quad((A, An, p1, At), "body", j))
+            mesh.quads.append(Quad((An, Bn, p2, p1), "body", j))
+            mesh.quads.append(Quad((Bn, B, Bt, p2), "body", j))
+            mesh.quads.append(Quad((p1, p2, Bt, At), "body", j))
+            for c in range(ia + 1, len(top) - 1):
+                mesh.quads.append(Quad((bot[c + 2], bot[c + 3], top[c + 1], top[c]), "body", j))
+        else:
+            assert len(bot) == len(top)
+            for c in range(len(top) - 1):
+                mesh.quads.append(Quad((bot[c], bot[c + 1], top[c + 1], top[c]), "body", j,
+                                       column=c if c < 2 else -1))
+    # The upstream body face is wetted (cushion, or fill above the slab).
+    for q in mesh.quads:
+        if q.kind == "body" and q.column == 0:
+            q.wet_face4 = True
+    # The slab: one element per body row up to the phase III top, `layers` through t.
+    layers = geo.v("slab", "layers")
+    factor = math.sqrt(1.0 + geo.su ** 2)
+    slab_top = geo.v("slab", "phase_tops")[-1]
+    for j in range(nband):
+        if y[j + 1] > slab_top + 1e-9:
+            continue
+        ring = []
+        for jj in (j, j + 1):
+            yy = y[jj]
+            xi = geo.x_up(yy)
+            th = geo.slab_thickness(yy) * factor
+            keys = [("u", 0.0, jj)]   # the cushion face node (bonded: shared)
+            for layer in range(1, layers + 1):
+                keys.append(mesh.point(("s", layer, jj), (xi - th * layer / layers, yy)))
+            ring.append(keys)
+        for layer in range(layers):
+            # outer layer first: nodes (outer bottom, inner bottom, inner top, outer top)
+            ob, ib = ring[0][layer + 1], ring[0][layer]
+            ot, it = ring[1][layer + 1], ring[1][layer]
+            mesh.quads.append(Quad((ob, ib, it, ot), "slab", j, material=SLAB_MATERIAL,
+                                   wet_face4=(layer == layers - 1)))
+    return mesh
+
+
+def refine(mesh, r):
+    """Split each quad into r x r by its bilinear map; shared edges share their nodes."""
+    if r == 1:
+        return mesh
+    out = Mesh()
+    for qi, q in enumerate(mesh.quads):
+        corners = [np.array(mesh.coords[k]) for k in q.nodes]
+
+        def key(i, j):
+            # corner
+            if (i, j) in ((0, 0), (r, 0), (r, r), (0, r)):
+                return q.nodes[[(0, 0), (r, 0), (r, r), (0, r)].index((i, j))]
+            # edge: identified by its end nodes and the position from the smaller key
+            edges = {0: (0, 1, i), 1: (1, 2, j), 2: (3, 2, i), 3: (0, 3, j)}
+            side = 0 if j == 0 else 1 if i == r else 2 if j == r else 3 if i == 0 else None
+            if side is not None:
+                n0, n1, t = edges[side]
+                ka, kb = q.nodes[n0], q.nodes[n1]
+                if repr(ka) <= repr(kb):
+                    return ("e", ka, kb, t)
+                return ("e", kb, ka, r - t)
+            return ("i", qi, i, j)
+
+        def xy(i, j):
+            s, t = i / r, j / r
+            return ((1 - s) * (1 - t) * corners[0] + s * (1 - t) * corners[1]
+                    + s * t * corners[2] + (1 - s) * t * corners[3])
+
+        for j in range(r):
+            for i in range(r):
+                ks = [key(i, j), key(i + 1, j), key(i + 1, j + 1), key(i, j + 1)]
+                for kk, (ii, jj) in zip(ks, [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)]):
+                    if kk not in out.coords:
+                        # points on an edge come from the canonical end (same rounding)
+                        if kk[0] == "e":
+                            pa, pb = np.array(mesh.coords[kk[1]]), np.array(mesh.coords[kk[2]])
+                            out.coords[kk] = tuple(pa + (pb - pa) * (kk[3] / r))
+                        elif kk[0] == "i":
+                            out.coords[kk] = tuple(xy(ii, jj))
+                        else:
+                            out.coords[kk] = mesh.coords[kk]
+                out.quads.append(Quad(tuple(ks), q.kind, q.band, q.material, q.group,
+                                      q.wet_face4 and i == 0, q.cover, q.column))
+    return out
+
+
+# --------------------------------------------------------------------------------------
+# Zones, groups, history
+# --------------------------------------------------------------------------------------
+
+def point_in_polygon(x, y, poly):
+    inside = False
+    n = len(poly)
+    for k in range(n):
+        (x1, y1), (x2, y2) = poly[k], poly[(k + 1) % n]
+        if (y1 > y) != (y2 > y):
+            xc = x1 + (y - y1) * (x2 - x1) / (y2 - y1)
+            if x < xc:
+                inside = not inside
+    return inside
+
+
+def centroid(mesh, q):
+    pts = np.array([mesh.coords[k] for k in q.nodes])
+    return pts.mean(axis=0)
+
+
+def assign_zones(geo, mesh):
+    """Materials: IIA and IIIA by mesh column, IIIC by polygon, IIIB/IIID by the line."""
+    (xa, ya), (xb, yb) = geo.v("zones", "IIIB_IIID_line")
+    poly = geo.v("zones", "IIIC_polygon")
+    for q in mesh.quads:
+        if q.kind != "body":
+            continue
+        if q.column == 0:
+            q.material = 1
+            continue
+        if q.column == 1:
+            q.material = 2
+            continue
+        cx, cy = centroid(mesh, q)
+        if point_in_polygon(cx, cy, poly):
+            q.material = 4
+        else:
+            x_line = xa + (cy - ya) * (xb - xa) / (yb - ya)
+            q.material = 3 if cx < x_line else 5
+
+
+def month_in(dates, k, n):
+    """Date 'YYYY.MM' of the end of step k (0-based) of n spread over 'YYYY.MM-YYYY.MM'."""
+    first, _, last = dates.partition("-")
+    last = last or first
+    m0 = int(first[:4]) * 12 + int(first[5:7]) - 1
+    m1 = int(last[:4]) * 12 + int(last[5:7]) - 1
+    m = m0 + round((k + 1) * (m1 - m0) / n)
+    return f"{m // 12}.{m % 12 + 1:02d}"
+
+
+def snap(y_lines, level):
+    return float(y_lines[int(np.argmin(np.abs(y_lines - level)))])
+
+
+def plan_history(geo, mesh):
+    """Element groups and the stage list. Returns (stages, notes): stages are tuples
+    (keyword, field2, ninc, date, label); notes describe snapped values for the header."""
+    y = geo.row_lines()
+    ninc_layer = geo.v("increments", "fill_layer")
+    ninc_slab = geo.v("increments", "slab_phase")
+    step = geo.v("increments", "water_step")
+    tops = geo.v("slab", "phase_tops")
+    stages, notes = [], []
+    placed = set()
+    level = None
+    body = [q for q in mesh.quads if q.kind == "body"]
+    for event in geo.raw["history"]:
+        kind = event["event"]
+        if kind == "fill":
+            top = snap(y, event["top"])
+            notes.append(f"block {event['name']} ({event['dates']}): top {event['top']:.1f} m"
+                         f" -> row line {top:.2f} m; downstream edge {event['edge']:g} m at the"
+                         f" top, temporary slope 1V:{event['slope']}H [{event['source']}]")
+            layers = []
+            for j in range(len(y) - 1):
+                if y[j + 1] > top + 1e-6:
+                    break
+                name = f"{event['name']}R{j + 1:02d}"
+                members = []
+                for q in body:
+                    if q.band != j or id(q) in placed:
+                        continue
+                    cx, cy = centroid(mesh, q)
+                    if cx <= event["edge"] + event["slope"] * (top - cy):
+                        members.append(q)
+                if not members:
+                    continue
+                for q in members:
+                    q.group = name
+                    placed.add(id(q))
+                layers.append((name, j))
+            for k, (name, j) in enumerate(layers):
+                stages.append(("FILL", name, ninc_layer, month_in(event["dates"], k, len(layers)),
+                               f"block {event['name']} layer {y[j]:.1f}-{y[j + 1]:.1f} m"))
+        elif kind == "slab":
+            phase = event["phase"]
+            lo = tops[phase - 2] if phase > 1 else geo.base
+            hi = tops[phase - 1]
+            name = f"SLAB{phase}"
+            for q in mesh.quads:
+                if q.kind == "slab" and lo - 1e-6 <= y[q.band] and y[q.band + 1] <= hi + 1e-6:
+                    q.group = name
+            stages.append(("RESET", "", 1, month_in(event["dates"], 0, 1),
+                           f"displacements zeroed before slab phase {phase}"))
+            stages.append(("FILL", name, ninc_slab, month_in(event["dates"], 0, 1),
+                           f"slab phase {phase} to El. {hi:.1f} m"))
+        elif kind == "water":
+            start = geo.base if level is None else level
+            n = max(1, math.ceil(abs(event["level"] - start) / step - 1e-9))
+            stages.append(("WATER", event["level"], n, month_in(event["dates"], 0, 1),
+                           f"reservoir to El. {event['level']:.1f} m [{event['source']}]"))
+            notes.append(f"water {event['dates']}: El. {event['level']:.1f} m in {n} "
+                         f"increments [{event['source']}] {event.get('note', '')}")
+            level = event["level"]
+    # Table 2's periods overlap: put the stages in calendar order (a stable sort keeps a
+    # RESET with its slab phase and the order of the geometry file within a month).
+    stages.sort(key=lambda st: st[3])
+    missing = [q for q in body if id(q) not in placed]
+    if missing:
+        raise SystemExit(f"{len(missing)} body elements belong to no fill block: "
+                         "the last block must reach the crest")
+    # The cushion face under slab phase k is covered when that phase is placed.
+    for q in mesh.quads:
+        if q.kind == "body" and q.wet_face4:
+            for phase, hi in enumerate(tops, 1):
+                lo = tops[phase - 2] if phase > 1 else geo.base
+                if lo - 1e-6 <= y[q.band] and y[q.band + 1] <= hi + 1e-6:
+                    q.cover = f"SLAB{phase}"
+    return stages, notes
+
+
+# --------------------------------------------------------------------------------------
+# Numbering, quality, deck
+# --------------------------------------------------------------------------------------
+
+@dataclass
+class Numbered:
+    xy: np.ndarray          # (nnode, 2)
+    conn: np.ndarray        # (nelem, 4), 1-based
+    quads: list             # Quad per element, same order
+
+
+def number(mesh):
+    """Nodes by elevation then x (the base nodes come first); elements by row then x."""
+    keys = list(mesh.coords)
+    pts = np.array([mesh.coords[k] for k in keys])
+    order = np.lexsort((np.round(pts[:, 0], 6), np.round(pts[:, 1], 6)))
+    index = {keys[k]: n + 1 for n, k in enumerate(order)}
+    quads = sorted(mesh.quads, key=lambda q: (q.kind != "body", round(centroid(mesh, q)[1], 6),
+                                              round(centroid(mesh, q)[0], 6)))
+    conn = np.array([[index[k] for k in q.nodes] for q in quads])
+    return Numbered(pts[order], conn, quads)
+
+
+def quality(num):
+    """Per element: det J at the corners and the corner angles (degrees)."""
+    ratios, angles = [], []
+    for c in num.conn:
+        p = num.xy[c - 1]
+        dets, angs = [], []
+        for k in range(4):
+            a, b, d = p[k], p[(k + 1) % 4], p[(k - 1) % 4]
+            e1, e2 = b - a, d - a
+            cross = e1[0] * e2[1] - e1[1] * e2[0]
+            dets.append(cross)
+            angs.append(math.degrees(math.atan2(cross, float(e1 @ e2))))
+        if min(dets) <= 0:
+            raise SystemExit(f"inverted or degenerate quad {c}")
+        ratios.append(min(dets) / max(dets))
+        angles += angs
+    return np.array(ratios), np.array(angles)
+
+
+def element_area(p):
+    x, y = p[:, 0], p[:, 1]
+    return 0.5 * (np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+
+
+def describe(geo, r, num):
+    ratios, angles = quality(num)
+    nbody = sum(q.kind == "body" for q in num.quads)
+    nslab = len(num.quads) - nbody
+    return {"refine": r, "nodes": len(num.xy), "elements": len(num.quads), "body": nbody,
+            "slab": nslab, "jac_min": ratios.min(), "jac_max": ratios.max(),
+            "angle_min": angles.min(), "angle_max": angles.max()}
+
+
+def gauge_nodes(geo, num):
+    """Each gauge on the cushion face node nearest its elevation (on an x1 row line)."""
+    y = geo.row_lines()
+    out = []
+    face = [n for n in range(len(num.xy))
+            if abs(num.xy[n, 0] - geo.x_up(num.xy[n, 1])) < 1e-6]
+    for g in geo.raw["gauges"]:
+        ys = snap(y, g["elevation"])
+        node = min(face, key=lambda n: abs(num.xy[n, 1] - ys))
+        out.append((node + 1, g["name"], g["elevation"], ys, g["source"]))
+    return out
+
+
+def write_deck(geo, r, num, stages, notes, path, solver="midpoint"):
+    gauges = gauge_nodes(geo, num)
+    info = describe(geo, r, num)
+    lines = []
+    add = lines.append
+    add(f"TITLE     Tianshengqiao-I section 0+630, x{r} mesh, slab bonded to the cushion")
+    add("* Written by tools/tianshengqiao.py from inputs/tianshengqiao-i.toml; do not edit:")
+    add("* edit the geometry file and rerun `python3 tools/tianshengqiao.py --all`.")
+    add("* Sources: [paper] Qian et al. 2013; [lit] published values for this dam, not in")
+    add("* the paper's text; [choice] modelling choices with no source.")
+    for key, value, source, note in geo.sources:
+        text = f"*   {key} = {value} [{source}]" + (f" {note}" if note else "")
+        add(text)
+    add("*   materials: E-B parameters of the paper's Table 3; unit weight = density * 9.81")
+    add("*     / 1000; Kur = 2 K [choice] (blank KUR); sigma3 floor 0.1 pa (default)")
+    for text in notes:
+        add("*   " + text)
+    for node, name, elevation, ys, source in gauges:
+        add(f"*   gauge {name}: El. {elevation:.1f} m [{source}] -> cushion node {node} at"
+            f" El. {ys:.2f} m")
+    add(f"* mesh: {info['nodes']} nodes, {info['body']} body quads, {info['slab']} slab quads;"
+        f" det J ratio {info['jac_min']:.3f}-{info['jac_max']:.3f}, corner angles"
+        f" {info['angle_min']:.1f}-{info['angle_max']:.1f} deg")
+    add("CONTROL")
+    add("*NNODE NELEM NMAT MODEL        PA    GAMMAW UNITS     NEWTOPSOLVER       TOLMAXIT")
+    control = (fmt_int(len(num.xy)) + fmt_int(len(num.conn)) + fmt_int(6) + fmt_int(1)
+               + fmt_real(101.325) + fmt_real(GAMMA_W) + fmt_alpha("KN-M") + fmt_int(0))
+    if solver == "newton":
+        # midpoint predictor, then Newton iterations to 1e-10 (equilibrium at every stage)
+        control += fmt_int(3) + fmt_real(1.0e-10) + fmt_int(30)
+    else:
+        control += fmt_int(1)   # the paper's midpoint stiffness method
+    add(control)
+    add("NODES")
+    add("*  N1   N2  INC        X1        Y1")
+    for n, (x, yv) in enumerate(num.xy, 1):
+        add(fmt_int(n) + " " * 10 + fmt_real(x) + fmt_real(yv))
+    add("ELEMENTS")
+    add("*  NE    I    J    K    L  MAT NGEN NINC GROUP")
+    for e, (c, q) in enumerate(zip(num.conn, num.quads), 1):
+        add(fmt_int(e) + "".join(fmt_int(v) for v in c) + fmt_int(q.material) + " " * 10
+            + fmt_alpha(q.group))
+    add("MATERIALS")
+    for m, zone in enumerate(ZONES, 1):
+        p = geo.raw["materials"][zone]
+        add(fmt_int(m) + fmt_alpha("EB") + p["label"])
+        add("*    GAMMA         K         N        RF        KB         M       KUR")
+        add(fmt_real(round(p["density"] * GRAVITY_G / 1000.0, 6)) + fmt_real(p["K"])
+            + fmt_real(p["n"]) + fmt_real(p["Rf"]) + fmt_real(p["Kb"]) + fmt_real(p["m"]))
+        add("*     PHI0      DPHI         C   SIG3MIN")
+        add(fmt_real(p["phi0"]) + fmt_real(p["dphi"]) + fmt_real(0.0))
+    add(fmt_int(SLAB_MATERIAL) + fmt_alpha("ELASTIC") + "face slab, concrete")
+    add(fmt_real(geo.v("slab", "youngs_modulus")) + fmt_real(geo.v("slab", "poisson_ratio"))
+        + fmt_real(geo.v("slab", "unit_weight")))
+    add("BOUNDARY")
+    add("*  N1   N2  INC   IX   IY")
+    base = np.nonzero(np.abs(num.xy[:, 1] - geo.base) < 1e-9)[0] + 1
+    assert np.all(np.diff(base) == 1)
+    add(fmt_int(base[0]) + fmt_int(base[-1]) + fmt_int(1) + fmt_int(1) + fmt_int(1))
+    add("RESERVOIR")
+    add("* ELEM FACE COVER")
+    for e, q in enumerate(num.quads, 1):
+        if q.wet_face4:
+            add(fmt_int(e) + fmt_int(4) + fmt_alpha(q.cover))
+    add("GAUGES")
+    add("* NODE NAME      LABEL")
+    for node, name, elevation, ys, source in gauges:
+        add(fmt_int(node) + fmt_alpha(name) + f"cushion face, El. {ys:.2f} m")
+    add("STAGES")
+    add("*KEYWORD GROUP/LEVEL NINC DATE      LABEL")
+    for keyword, field2, ninc, date, label in stages:
+        f2 = fmt_real(field2) if keyword == "WATER" else fmt_alpha(field2)
+        add(fmt_alpha(keyword) + f2 + fmt_int(ninc) + fmt_alpha(date) + label[:45])
+    add("END")
+    text = "\n".join(lines) + "\n"
+    for n, line in enumerate(lines, 1):
+        if not line.startswith("*") and len(line) > 80:
+            raise SystemExit(f"deck line {n} longer than 80 columns: {line}")
+    Path(path).write_text(text)
+    return info
+
+
+def generate(r, geo=None):
+    geo = geo or Geometry()
+    mesh = build_x1(geo)
+    assign_zones(geo, mesh)
+    stages, notes = plan_history(geo, mesh)
+    fine = refine(mesh, r)
+    num = number(fine)
+    return geo, num, stages, notes
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--refine", type=int, default=1, choices=[1, 2, 4, 8])
+    parser.add_argument("--deck", help="write the cfrd deck here")
+    parser.add_argument("--all", action="store_true",
+                        help="write inputs/tianshengqiao-x1.dat and -x2.dat")
+    parser.add_argument("--interface", default="bonded", choices=["bonded"],
+                        help="slab-cushion interface (joint, thin and contact: issues 6, 7)")
+    parser.add_argument("--geometry", default=str(GEOMETRY))
+    parser.add_argument("--solver", default="midpoint", choices=["midpoint", "newton"],
+                        help="midpoint stiffness (the paper's) or Newton to 1e-10")
+    parser.add_argument("--report", action="store_true", help="print the mesh quality")
+    args = parser.parse_args(argv)
+    geo = Geometry(args.geometry)
+    jobs = []
+    if args.all:
+        root = Path(__file__).resolve().parent.parent / "inputs"
+        jobs = [(r, root / f"tianshengqiao-x{r}.dat") for r in (1, 2)]
+    elif args.deck:
+        jobs = [(args.refine, Path(args.deck))]
+    else:
+        jobs = [(args.refine, None)]
+    for r, path in jobs:
+        geo, num, stages, notes = generate(r, geo)
+        if path is not None:
+            info = write_deck(geo, r, num, stages, notes, path, args.solver)
+        else:
+            info = describe(geo, r, num)
+        if args.report or path is None:
+            print(f"x{r}: {info['nodes']} nodes, {info['elements']} quads ({info['body']} body, "
+                  f"{info['slab']} slab); det J min/max ratio {info['jac_min']:.3f}-"
+                  f"{info['jac_max']:.3f}; corner angles {info['angle_min']:.1f}-"
+                  f"{info['angle_max']:.1f} deg" + (f" -> {path}" if path else ""))
+
+
+if __name__ == "__main__":
+    main()
