@@ -8,10 +8,10 @@ module test_io_results
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, io_error
     use cfrd_testing, only: unittest_t, new_unittest, check, fail
-    use cfrd_model, only: model_t
+    use cfrd_model, only: model_t, gauge_t
     use cfrd_results, only: results_t
     use cfrd_hdf5, only: write_results_h5
-    use cfrd_listing, only: write_listing
+    use cfrd_listing, only: write_listing, write_gauge_csv
     use cfrd_test_models, only: new_model, elastic_material
     implicit none
     private
@@ -27,6 +27,7 @@ contains
         tests = [ &
                 new_unittest('hdf5_round_trip', test_hdf5_round_trip), &
                 new_unittest('listing_tables', test_listing), &
+                new_unittest('gauge_csv', test_gauge_csv), &
                 new_unittest('unwritable_path_is_io_error', test_unwritable) &
                 ]
     end subroutine collect_io_results
@@ -43,6 +44,7 @@ contains
                         elastic_material(2.0e4_dp, 0.2_dp, 21.0_dp)])
         model%deck_text = 'TITLE     sample'//new_line('a')//'END'
         model%fixed(:, 1:3) = .true.
+        model%gauges = [gauge_t('C3-V7', 5, 'top middle')]
         allocate (results%stages(1))
         associate (s => results%stages(1))
             s%name = 'LOADS'
@@ -167,6 +169,43 @@ contains
         close (unit)
         call check(error, found_sum .and. found_node, 'SUM line and displacement table found')
     end subroutine test_listing
+
+    !> The gauge CSV holds each gauge's ux and settlement (-uy) since placement: node 5 of the
+    !> sample has displacement_total = (0.009, 0.010) + 1 by construction; 10 significant
+    !> digits are written, so 1e-9 relative.
+    subroutine test_gauge_csv(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(model_t) :: model
+        type(results_t) :: results
+        character(len=400) :: header, line
+        real(dp) :: ux, settlement
+        integer :: unit, comma(5), k, pos
+        call sample(model, results)
+        call execute_command_line('mkdir -p '//dir)
+        call write_gauge_csv(dir//'sample-gauges.csv', model, results, error)
+        if (allocated(error)) return
+        open (newunit=unit, file=dir//'sample-gauges.csv', status='old', action='read')
+        read (unit, '(a)') header
+        read (unit, '(a)') line
+        close (unit)
+        call check(error, trim(header) == 'stage,label,date,water_level_m,C3-V7_ux_m,'// &
+                   'C3-V7_settlement_m', 'CSV header')
+        if (allocated(error)) return
+        ! Fields: stage, "label", date, level, ux, settlement (the label has no comma).
+        pos = 0
+        do k = 1, 5
+            comma(k) = pos + index(line(pos + 1:), ',')
+            pos = comma(k)
+        end do
+        read (line(comma(4) + 1:comma(5) - 1), *) ux
+        read (line(comma(5) + 1:), *) settlement
+        call check(error, line(comma(2) + 1:comma(4) - 1) == '1997-05,660.00', &
+                   'date and level fields')
+        if (allocated(error)) return
+        call check(error, ux, 1.009_dp, 'ux of the gauge', rel=1e-9_dp)
+        if (allocated(error)) return
+        call check(error, settlement, -1.010_dp, 'settlement of the gauge', rel=1e-9_dp)
+    end subroutine test_gauge_csv
 
     subroutine test_unwritable(error)
         type(error_t), allocatable, intent(out) :: error

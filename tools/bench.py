@@ -6,6 +6,13 @@
     wall time of the whole process and its peak memory.
 (b) The issue's embankment at 1e3, 1e4, 1e5 elements run by cfrd and by CalculiX (ccx):
     wall times, their ratio, peak memories, and the agreement max |du| / max |u|.
+(c) The homogeneous IIIB E-B embankment in 20 layers: midpoint against Newton.
+(d) Tianshengqiao-I, the whole 1996-1999 history, on the x1, x2, x4, x8 meshes
+    (tools/tianshengqiao.py): stages, increments, factorisations, iterations, analysis and
+    process wall time, time per dof, and the maximum settlement (mesh convergence); the
+    Newton variant up to --tsq-newton-max.
+
+  python3 tools/bench.py --only-tianshengqiao      # table (d) alone
 
   python3 tools/bench.py [--cfrd bin/cfrd] [--workdir build/bench] [--repeat 1]
                          [--sizes 1000,10000,100000] [--markdown FILE] [--no-ccx]
@@ -17,6 +24,8 @@ getrusage in a separate process), never a running maximum over several runs.
 """
 
 import argparse
+
+import numpy as np
 import math
 import os
 import platform
@@ -278,6 +287,70 @@ def bench_staged(cfrd, sizes, workdir, newton_max=10000):
     return table(header, cells, "rlrrrrrrrrr")
 
 
+def bench_tianshengqiao(cfrd, refinements, workdir, repeat, newton_max=2):
+    """(d) The Tianshengqiao-I history at each refinement: midpoint (the paper's method,
+    the deck's default) and, up to newton_max, the Newton variant (SOLVER 3, TOL 1e-10)."""
+    import subprocess
+    import time
+    import h5py
+    import resource
+    gen = os.path.join(HERE, "tianshengqiao.py")
+    rows = []
+    for r in refinements:
+        for solver in ("midpoint", "newton"):
+            if solver == "newton" and r > newton_max:
+                continue
+            deck = os.path.join(workdir, f"tianshengqiao-x{r}-{solver}.dat")
+            subprocess.run([sys.executable, gen, "--refine", str(r), "--solver", solver,
+                            "--deck", deck], check=True)
+            best = None
+            for _ in range(repeat):
+                t0 = time.perf_counter()
+                done = subprocess.run([cfrd, "--quiet", deck], capture_output=True, text=True)
+                wall = time.perf_counter() - t0
+                if best is None or wall < best[0]:
+                    best = (wall, done)
+            wall, done = best
+            rss = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+            row = dict(r=r, solver=solver, wall=wall, rss=rss)
+            if done.returncode != 0:
+                row["error"] = (done.stderr.strip().splitlines() or ["?"])[-1][:90]
+            else:
+                with h5py.File(deck[:-4] + ".h5") as f:
+                    st = [f["stages"][k] for k in sorted(f["stages"])]
+                    row["stages"] = len(st)
+                    row["nelem"] = f["mesh/connectivity"].shape[0]
+                    row["inc"] = sum(int(g.attrs["increments"]) for g in st)
+                    row["fact"] = sum(int(g.attrs["factorisations"]) for g in st)
+                    row["iter"] = sum(int(g.attrs["iterations"]) for g in st)
+                    row["neq"] = int(st[-1]["solver"].attrs["neq"])
+                    row["analysis"] = float(np.ravel(f["run"].attrs["wall_time"])[0])
+                    u = st[-1]["displacement_total"][...]
+                    x = f["mesh/coordinates"][...]
+                    k = int(u[:, 1].argmin())
+                    row["settl"] = float(-u[k, 1])
+                    row["elev"] = float(x[k, 1])
+            rows.append(row)
+            print(f"  tianshengqiao x{r} {solver}: {sec(wall)} s {row.get('error', '')}",
+                  file=sys.stderr, flush=True)
+    header = ["mesh", "solver", "elements", "equations", "stages", "increments",
+              "factorisations", "Newton it.", "analysis s", "process s", "us/dof",
+              "max settl. m", "at El. m"]
+    cells = []
+    for row in rows:
+        if "error" in row:
+            cells.append([f"x{row['r']}", row["solver"]] + ["-"] * 7 + [sec(row["wall"])]
+                         + ["-", "failed: " + row["error"], "-"])
+            continue
+        cells.append([f"x{row['r']}", row["solver"], str(row["nelem"]), str(row["neq"]),
+                      str(row["stages"]), str(row["inc"]), str(row["fact"]),
+                      str(row["iter"]), sec(row["analysis"]), sec(row["wall"]),
+                      f"{1e6 * row['analysis'] / row['neq']:.0f}", f"{row['settl']:.4f}",
+                      f"{row['elev']:.1f}"])
+    text, md = table(header, cells, "llrrrrrrrrrrr")
+    return text, md
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--cfrd", default=os.path.join(ROOT, "bin", "cfrd"))
@@ -291,7 +364,24 @@ def main(argv=None):
                     help="element counts of the staged E-B embankment (empty: skip)")
     ap.add_argument("--newton-max", type=int, default=10000,
                     help="largest staged case also run with Newton iterations")
+    ap.add_argument("--tsq-refine", default="1,2,4,8",
+                    help="Tianshengqiao-I refinements for table (d) (empty: skip)")
+    ap.add_argument("--tsq-newton-max", type=int, default=2,
+                    help="largest Tianshengqiao-I refinement also run with Newton")
+    ap.add_argument("--only-tianshengqiao", action="store_true", help="table (d) only")
     args = ap.parse_args(argv)
+    tsq = [int(x) for x in args.tsq_refine.split(",") if x.strip()]
+    if args.only_tianshengqiao:
+        os.makedirs(args.workdir, exist_ok=True)
+        t, m = bench_tianshengqiao(args.cfrd, tsq, args.workdir, args.repeat,
+                                   args.tsq_newton_max)
+        print(machine())
+        print("(d) Tianshengqiao-I, 1996-1999 history")
+        print(t)
+        if args.markdown:
+            with open(args.markdown, "w") as f:
+                f.write(f"Machine: {machine()}.\n\n{m}\n")
+        return 0
     sizes = [int(s) for s in args.sizes.split(",") if s.strip()]
     os.makedirs(args.workdir, exist_ok=True)
     cfrd = args.cfrd if os.access(args.cfrd, os.X_OK) else None
@@ -334,6 +424,12 @@ def main(argv=None):
         out_text += ["", "(c) IIIB E-B embankment in 20 layers, 2 increments a layer", t]
         out_md += ["**(c) The homogeneous IIIB E-B embankment built in 20 layers** (2 "
                    "increments a layer): midpoint against Newton.", "", m, ""]
+    if cfrd and tsq:
+        t, m = bench_tianshengqiao(cfrd, tsq, args.workdir, args.repeat, args.tsq_newton_max)
+        out_text += ["", "(d) Tianshengqiao-I, the whole 1996-1999 history", t]
+        out_md += ["**(d) Tianshengqiao-I, the whole 1996-1999 history** "
+                   "(tools/tianshengqiao.py meshes; midpoint as in the paper, Newton to "
+                   "1e-10).", "", m, ""]
     print("\n".join(out_text))
     if args.markdown:
         with open(args.markdown, "w") as f:

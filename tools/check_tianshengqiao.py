@@ -100,6 +100,37 @@ def water_resultant(xy, conn, group, group_names, active, wet, level, gamma_w):
     return np.array([fx, fy])
 
 
+def interface_meshes():
+    """The generator's interface variants (for issues 6 and 7): the joint mesh pairs every
+    slab node on the interface with a cushion node at the same place (24 row lines at x1:
+    the 23 slab elements' ends); the contact mesh's slab nodes meet cushion nodes only where
+    both meshes must have one, the toe and the three phase tops (4)."""
+    import os
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import tianshengqiao as tsq
+    ok = True
+    geo, num, _, _ = tsq.generate(1, interface="joint")
+    gaps = [float(np.linalg.norm(num.xy[a - 1] - num.xy[b - 1])) for a, b in num.pairs]
+    good = len(num.pairs) == 24 and max(gaps) == 0.0 and all(a != b for a, b in num.pairs)
+    print(("PASS" if good else "FAIL") + f" tsq/joint-mesh: {len(num.pairs)} node pairs on the"
+          f" interface (expected 24), largest gap {max(gaps):.1e} m (expected 0)")
+    ok &= good
+    geo, num, _, _ = tsq.generate(1, interface="contact")
+    slab = {k for c, q in zip(num.conn, num.quads) if q.kind == "slab" for k in c}
+    body = {k for c, q in zip(num.conn, num.quads) if q.kind == "body" for k in c}
+    face = [k for k in body if abs(num.xy[k - 1, 0] - geo.x_up(num.xy[k - 1, 1])) < 1e-9]
+    inner = [k for k in slab if abs(num.xy[k - 1, 0] - geo.x_up(num.xy[k - 1, 1])) < 1e-9]
+    shared = len(set(face) & set(inner))
+    close = sum(1 for a in inner for b in face
+                if np.linalg.norm(num.xy[a - 1] - num.xy[b - 1]) < 1e-6)
+    good = shared == 0 and close == 4 and len(inner) == 21
+    print(("PASS" if good else "FAIL") + f" tsq/contact-mesh: {len(inner)} slab nodes on the"
+          f" interface (expected 21 = 20 elements + 1), {shared} shared with the body (expected"
+          f" 0), {close} at a cushion node's place (expected 4: toe and phase tops)")
+    ok &= good
+    return ok
+
+
 def run_suite(cfrd, workdir):
     """Generate, run and check the x1 deck and its Newton variant."""
     import filecmp
@@ -119,6 +150,7 @@ def run_suite(cfrd, workdir):
           + (" is" if same else " is NOT") + " what tools/tianshengqiao.py makes of"
           " inputs/tianshengqiao-i.toml")
     ok &= same
+    ok &= interface_meshes()
     for deck, extra in ((mid, ["--finding"]), (newton, ["--balance", "--label", "tsq-newton"])):
         run = subprocess.run([cfrd, "--quiet", "--out", workdir, deck], capture_output=True,
                              text=True)

@@ -30,7 +30,10 @@ CLI:
 import argparse
 import math
 import sys
-import tomllib
+try:
+    import tomllib                      # Python 3.11 and later
+except ImportError:                     # pragma: no cover
+    import tomli as tomllib             # the same parser from PyPI
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -59,7 +62,7 @@ class Geometry:
             self.raw = tomllib.load(handle)
         self.choices = []
         self.sources = []
-        for group in ("section", "slab", "zones", "mesh", "increments"):
+        for group in ("section", "slab", "interface", "zones", "mesh", "increments"):
             for key, item in self.raw[group].items():
                 self.sources.append((f"{group}.{key}", item["value"], item["source"],
                                      item.get("note", "")))
@@ -125,12 +128,14 @@ class Quad:
     wet_face4: bool = False  # face 4 (node 4 -> node 1) is on the reservoir side
     cover: str = ""         # group whose placement covers the wet face
     column: int = -1        # body: 0 = IIA band, 1 = IIIA band, else -1
+    phase: int = 0          # slab and thin layer: slab phase 1..3
 
 
 @dataclass
 class Mesh:
     coords: dict = field(default_factory=dict)     # node key -> (x, y)
     quads: list = field(default_factory=list)
+    pairs: list = field(default_factory=list)      # joint: (cushion key, slab key) pairs
 
     def point(self, key, xy):
         if key not in self.coords:
@@ -138,8 +143,18 @@ class Mesh:
         return key
 
 
-def build_x1(geo):
-    """The x1 mesh: body rows with 3-to-1 transitions, the slab on the cushion face."""
+INTERFACES = ("bonded", "joint", "thin", "contact")
+THIN_MATERIAL = 7
+
+
+def build_x1(geo, interface="bonded"):
+    """The x1 mesh: body rows with 3-to-1 transitions, the slab on the cushion face.
+
+    interface: 'bonded' (the slab shares the cushion's nodes), 'joint' (matching nodes on
+    both sides of the interface, paired in mesh.pairs, for zero-thickness joint elements),
+    'thin' (a layer of quads of the thin-layer thickness between cushion and slab, the slab
+    moved out by it), 'contact' (the slab meshed on its own, with slab.contact_elements
+    along the slope: nodes that do not match the cushion's)."""
     mesh = Mesh()
     y = geo.row_lines()
     nband = len(y) - 1
@@ -234,28 +249,53 @@ def build_x1(geo):
     for q in mesh.quads:
         if q.kind == "body" and q.column == 0:
             q.wet_face4 = True
-    # The slab: one element per body row up to the phase III top, `layers` through t.
+    # The slab: one element per body row up to the phase III top (contact: its own rows),
+    # `layers` through its thickness.
     layers = geo.v("slab", "layers")
-    factor = math.sqrt(1.0 + geo.su ** 2)
-    slab_top = geo.v("slab", "phase_tops")[-1]
-    for j in range(nband):
-        if y[j + 1] > slab_top + 1e-9:
-            continue
-        ring = []
-        for jj in (j, j + 1):
-            yy = y[jj]
-            xi = geo.x_up(yy)
-            th = geo.slab_thickness(yy) * factor
-            keys = [("u", 0.0, jj)]   # the cushion face node (bonded: shared)
-            for layer in range(1, layers + 1):
-                keys.append(mesh.point(("s", layer, jj), (xi - th * layer / layers, yy)))
-            ring.append(keys)
+    factor = math.sqrt(1.0 + geo.su ** 2)   # horizontal width of a unit normal thickness
+    tops = geo.v("slab", "phase_tops")
+    thin = geo.v("interface", "thin_thickness") if interface == "thin" else 0.0
+
+    def phase_of(y_top):
+        return next(k for k, top in enumerate(tops, 1) if y_top <= top + 1e-9)
+
+    if interface == "contact":
+        rows, bottom = [geo.base], geo.base
+        for top, n in zip(tops, geo.v("interface", "contact_elements")):
+            rows += [bottom + (top - bottom) * k / n for k in range(1, n + 1)]
+            bottom = top
+        slab_rows = [(("c", k), rows[k]) for k in range(len(rows))]
+    else:
+        slab_rows = [(jj, y[jj]) for jj in range(nband + 1) if y[jj] <= tops[-1] + 1e-9]
+    rings = []
+    for tag, yy in slab_rows:
+        xi = geo.x_up(yy)
+        th = geo.slab_thickness(yy) * factor
+        face = ("u", 0.0, tag)
+        if interface == "bonded":
+            inner = face
+        elif interface == "joint":
+            inner = mesh.point(("j", tag), (xi, yy))
+            mesh.pairs.append((face, inner))
+        elif interface == "thin":
+            inner = mesh.point(("t", tag), (xi - thin * factor, yy))
+        else:
+            inner = mesh.point(("ci", tag), (xi, yy))
+        keys = [inner]
+        for layer in range(1, layers + 1):
+            keys.append(mesh.point(("s", layer, tag), (xi - thin * factor - th * layer / layers, yy)))
+        rings.append((tag, yy, face, keys))
+    for (tag0, y0, face0, ring0), (tag1, y1, face1, ring1) in zip(rings, rings[1:]):
+        band = tag0 if isinstance(tag0, int) else -1
+        phase = phase_of(y1)
         for layer in range(layers):
-            # outer layer first: nodes (outer bottom, inner bottom, inner top, outer top)
-            ob, ib = ring[0][layer + 1], ring[0][layer]
-            ot, it = ring[1][layer + 1], ring[1][layer]
-            mesh.quads.append(Quad((ob, ib, it, ot), "slab", j, material=SLAB_MATERIAL,
+            # nodes (outer bottom, inner bottom, inner top, outer top); face 4 is outside
+            mesh.quads.append(Quad((ring0[layer + 1], ring0[layer], ring1[layer], ring1[layer + 1]),
+                                   "slab", band, material=SLAB_MATERIAL, phase=phase,
                                    wet_face4=(layer == layers - 1)))
+        if interface == "thin":
+            mesh.quads.append(Quad((ring0[0], face0, face1, ring1[0]), "thin", band,
+                                   material=THIN_MATERIAL, phase=phase))
     return mesh
 
 
@@ -407,7 +447,7 @@ def plan_history(geo, mesh):
             hi = tops[phase - 1]
             name = f"SLAB{phase}"
             for q in mesh.quads:
-                if q.kind == "slab" and lo - 1e-6 <= y[q.band] and y[q.band + 1] <= hi + 1e-6:
+                if q.kind in ("slab", "thin") and q.phase == phase:
                     q.group = name
             stages.append(("RESET", "", 1, month_in(event["dates"], 0, 1),
                            f"displacements zeroed before slab phase {phase}"))
@@ -447,6 +487,23 @@ class Numbered:
     xy: np.ndarray          # (nnode, 2)
     conn: np.ndarray        # (nelem, 4), 1-based
     quads: list             # Quad per element, same order
+    index: dict = None      # node key -> number
+    pairs: list = None      # joint: (cushion node, slab node) numbers, bottom to top
+
+
+def interface_pairs(mesh, num):
+    """Joint mesh: every slab node on the interface with the cushion node at its place."""
+    slab_nodes = {k for q in mesh.quads if q.kind == "slab" for k in q.nodes}
+    body_nodes = {k for q in mesh.quads if q.kind == "body" for k in q.nodes}
+    at = {}
+    for k in body_nodes:
+        at[tuple(np.round(mesh.coords[k], 6))] = k
+    out = []
+    for k in slab_nodes:
+        b = at.get(tuple(np.round(mesh.coords[k], 6)))
+        if b is not None:
+            out.append((num.index[b], num.index[k]))
+    return sorted(out, key=lambda p: num.xy[p[0] - 1, 1])
 
 
 def number(mesh):
@@ -458,7 +515,7 @@ def number(mesh):
     quads = sorted(mesh.quads, key=lambda q: (q.kind != "body", round(centroid(mesh, q)[1], 6),
                                               round(centroid(mesh, q)[0], 6)))
     conn = np.array([[index[k] for k in q.nodes] for q in quads])
-    return Numbered(pts[order], conn, quads)
+    return Numbered(pts[order], conn, quads, index)
 
 
 def quality(num):
@@ -488,9 +545,11 @@ def element_area(p):
 def describe(geo, r, num):
     ratios, angles = quality(num)
     nbody = sum(q.kind == "body" for q in num.quads)
-    nslab = len(num.quads) - nbody
+    nslab = sum(q.kind == "slab" for q in num.quads)
+    nthin = sum(q.kind == "thin" for q in num.quads)
     return {"refine": r, "nodes": len(num.xy), "elements": len(num.quads), "body": nbody,
-            "slab": nslab, "jac_min": ratios.min(), "jac_max": ratios.max(),
+            "slab": nslab, "thin": nthin, "pairs": len(num.pairs or []),
+            "jac_min": ratios.min(), "jac_max": ratios.max(),
             "angle_min": angles.min(), "angle_max": angles.max()}
 
 
@@ -507,12 +566,19 @@ def gauge_nodes(geo, num):
     return out
 
 
-def write_deck(geo, r, num, stages, notes, path, solver="midpoint"):
+def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="bonded"):
+    if interface in ("joint", "contact"):
+        raise SystemExit(f"--interface {interface}: the deck needs the "
+                         + ("joint elements of issue 6" if interface == "joint" else
+                            "contact module of issue 7")
+                         + "; --report shows the mesh")
     gauges = gauge_nodes(geo, num)
     info = describe(geo, r, num)
     lines = []
     add = lines.append
-    add(f"TITLE     Tianshengqiao-I section 0+630, x{r} mesh, slab bonded to the cushion")
+    what = {"bonded": "slab bonded to the cushion",
+            "thin": "thin layer under the slab"}[interface]
+    add(f"TITLE     Tianshengqiao-I section 0+630, x{r} mesh, {what}")
     add("* Written by tools/tianshengqiao.py from inputs/tianshengqiao-i.toml; do not edit:")
     add("* edit the geometry file and rerun `python3 tools/tianshengqiao.py --all`.")
     add("* Sources: [paper] Qian et al. 2013; [lit] published values for this dam, not in")
@@ -527,12 +593,14 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint"):
     for node, name, elevation, ys, source in gauges:
         add(f"*   gauge {name}: El. {elevation:.1f} m [{source}] -> cushion node {node} at"
             f" El. {ys:.2f} m")
-    add(f"* mesh: {info['nodes']} nodes, {info['body']} body quads, {info['slab']} slab quads;"
+    add(f"* mesh: {info['nodes']} nodes, {info['body']} body quads, {info['slab']} slab quads,"
+        f" {info['thin']} thin-layer quads;"
         f" det J ratio {info['jac_min']:.3f}-{info['jac_max']:.3f}, corner angles"
         f" {info['angle_min']:.1f}-{info['angle_max']:.1f} deg")
     add("CONTROL")
     add("*NNODE NELEM NMAT MODEL        PA    GAMMAW UNITS     NEWTOPSOLVER       TOLMAXIT")
-    control = (fmt_int(len(num.xy)) + fmt_int(len(num.conn)) + fmt_int(6) + fmt_int(1)
+    nmat = 7 if interface == "thin" else 6
+    control = (fmt_int(len(num.xy)) + fmt_int(len(num.conn)) + fmt_int(nmat) + fmt_int(1)
                + fmt_real(101.325) + fmt_real(GAMMA_W) + fmt_alpha("KN-M") + fmt_int(0))
     if solver == "newton":
         # midpoint predictor, then Newton iterations to 1e-10 (equilibrium at every stage)
@@ -561,6 +629,10 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint"):
     add(fmt_int(SLAB_MATERIAL) + fmt_alpha("ELASTIC") + "face slab, concrete")
     add(fmt_real(geo.v("slab", "youngs_modulus")) + fmt_real(geo.v("slab", "poisson_ratio"))
         + fmt_real(geo.v("slab", "unit_weight")))
+    if interface == "thin":
+        add(fmt_int(THIN_MATERIAL) + fmt_alpha("ELASTIC") + "thin layer between slab and cushion")
+        add(fmt_real(geo.v("interface", "thin_youngs_modulus"))
+            + fmt_real(geo.v("interface", "thin_poisson_ratio")) + fmt_real(0.0))
     add("BOUNDARY")
     add("*  N1   N2  INC   IX   IY")
     base = np.nonzero(np.abs(num.xy[:, 1] - geo.base) < 1e-9)[0] + 1
@@ -589,13 +661,14 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint"):
     return info
 
 
-def generate(r, geo=None):
+def generate(r, geo=None, interface="bonded"):
     geo = geo or Geometry()
-    mesh = build_x1(geo)
+    mesh = build_x1(geo, interface)
     assign_zones(geo, mesh)
     stages, notes = plan_history(geo, mesh)
     fine = refine(mesh, r)
     num = number(fine)
+    num.pairs = interface_pairs(fine, num) if interface == "joint" else []
     return geo, num, stages, notes
 
 
@@ -605,8 +678,10 @@ def main(argv=None):
     parser.add_argument("--deck", help="write the cfrd deck here")
     parser.add_argument("--all", action="store_true",
                         help="write inputs/tianshengqiao-x1.dat and -x2.dat")
-    parser.add_argument("--interface", default="bonded", choices=["bonded"],
-                        help="slab-cushion interface (joint, thin and contact: issues 6, 7)")
+    parser.add_argument("--interface", default="bonded", choices=list(INTERFACES),
+                        help="slab-cushion interface: bonded (shared nodes), thin (thin-layer"
+                             " quads), joint and contact (mesh only: --report; their decks"
+                             " come with issues 6 and 7)")
     parser.add_argument("--geometry", default=str(GEOMETRY))
     parser.add_argument("--solver", default="midpoint", choices=["midpoint", "newton"],
                         help="midpoint stiffness (the paper's) or Newton to 1e-10")
@@ -622,14 +697,15 @@ def main(argv=None):
     else:
         jobs = [(args.refine, None)]
     for r, path in jobs:
-        geo, num, stages, notes = generate(r, geo)
+        geo, num, stages, notes = generate(r, geo, args.interface)
         if path is not None:
-            info = write_deck(geo, r, num, stages, notes, path, args.solver)
+            info = write_deck(geo, r, num, stages, notes, path, args.solver, args.interface)
         else:
             info = describe(geo, r, num)
         if args.report or path is None:
             print(f"x{r}: {info['nodes']} nodes, {info['elements']} quads ({info['body']} body, "
-                  f"{info['slab']} slab); det J min/max ratio {info['jac_min']:.3f}-"
+                  f"{info['slab']} slab, {info['thin']} thin layer; {info['pairs']} interface"
+                  f" node pairs); det J min/max ratio {info['jac_min']:.3f}-"
                   f"{info['jac_max']:.3f}; corner angles {info['angle_min']:.1f}-"
                   f"{info['angle_max']:.1f} deg" + (f" -> {path}" if path else ""))
 

@@ -161,7 +161,7 @@ contains
                 associate (st => results%stages(s))
                     write (unit, '(i7,1x,a10,a10,*(f12.4))') s, date_of(st), level_of(st), &
                         (merge(1.0_dp, -1.0_dp, k == 1)* &
-                         st%displacement_total(k, model%gauges(g)%node), &
+                         st%displacement_total(k, model%gauges(g)%node) + 0.0_dp, &
                          g = 1, size(model%gauges))
                 end associate
             end do
@@ -184,7 +184,7 @@ contains
                              trim(msg), io_error)
             return
         end if
-        write (unit, '(a)', advance='no') 'stage,kind_label,date,water_level_m'
+        write (unit, '(a)', advance='no') 'stage,label,date,water_level_m'
         do g = 1, size(model%gauges)
             write (unit, '(a)', advance='no') ','//trim(model%gauges(g)%name)//'_ux_m,'// &
                 trim(model%gauges(g)%name)//'_settlement_m'
@@ -197,9 +197,9 @@ contains
                 write (unit, '(i0,a)', advance='no') s, ',"'//st%name//'",'// &
                     trim(adjustl(date_of(st)))//','//level
                 do g = 1, size(model%gauges)
-                    write (unit, '(2(a,es16.9))', advance='no') ',', &
-                        st%displacement_total(1, model%gauges(g)%node), ',', &
-                        -st%displacement_total(2, model%gauges(g)%node)
+                    write (unit, '(a)', advance='no') ','// &
+                        csv_real(st%displacement_total(1, model%gauges(g)%node))//','// &
+                        csv_real(-st%displacement_total(2, model%gauges(g)%node))
                 end do
                 write (unit, '(a)', iostat=stat, iomsg=msg) ''
             end associate
@@ -208,6 +208,15 @@ contains
         if (stat /= 0) call fatal_error(error, 'cannot write the gauge histories '//path// &
                                         ': '//trim(msg), io_error)
     end subroutine write_gauge_csv
+
+    !> A real for CSV: 10 significant digits, no blanks, no negative zero.
+    function csv_real(x) result(text)
+        real(dp), intent(in) :: x
+        character(len=:), allocatable :: text
+        character(len=24) :: buffer
+        write (buffer, '(es17.9e3)') x + 0.0_dp
+        text = trim(adjustl(buffer))
+    end function csv_real
 
     !> The stage's date in 10 columns ('-' when it has none).
     function date_of(stage) result(text)
@@ -328,8 +337,10 @@ contains
                         end if
                         associate (st => results%stages(s))
                             write (unit, '(2x,a10,a10,*(f8.3,"/",f7.3))') date_of(st), &
-                                level_of(st), (st%displacement_total(1, model%gauges(g)%node), &
-                                               -st%displacement_total(2, model%gauges(g)%node), &
+                                level_of(st), (st%displacement_total(1, model%gauges(g)%node) &
+                                               + 0.0_dp, &
+                                               -st%displacement_total(2, model%gauges(g)%node) &
+                                               + 0.0_dp, &
                                                g = 1, size(model%gauges))
                         end associate
                     end do
