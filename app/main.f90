@@ -12,6 +12,7 @@ program cfrd_main
     use cfrd_listing, only: write_listing, write_summary, write_gauge_csv
     use cfrd_hdf5, only: write_results_h5
     use cfrd_files, only: move_file, delete_file, base_name, strip_extension
+    use cfrd_memory, only: tune_allocator
     implicit none
 
     type :: options_t
@@ -25,6 +26,7 @@ program cfrd_main
     type(error_t), allocatable :: error
     integer :: i, status, worst
 
+    call tune_allocator()
     call parse_command_line(options, decks, error)
     if (allocated(error)) then
         write (error_unit, '(a)') 'cfrd: '//error%message
