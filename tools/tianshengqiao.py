@@ -19,8 +19,11 @@ The mesh (docs/tianshengqiao.md):
   * refinement xR splits every x1 quad into R x R by its bilinear map, so each refined mesh
     holds the x1 mesh's lines, zones, groups and fill layers exactly.
 
-Interfaces: --interface bonded (this issue: the slab shares the cushion's nodes). The
-joint, thin-layer and contact variants come with issues 6 and 7.
+Interfaces (--interface): bonded (the slab shares the cushion's nodes; the default),
+thin (a row of thin-layer quads between cushion and slab: a complete deck), joint (matching
+node pairs on the interface) and contact (a slab mesh of its own, nodes not matching); the
+last two are meshes only (--report) until the joint elements (issue 6) and the contact
+module (issue 7) exist.
 
 CLI:
   python3 tools/tianshengqiao.py --refine 1 --deck inputs/tianshengqiao-x1.dat
@@ -161,46 +164,30 @@ def build_x1(geo, interface="bonded"):
     bands_top = nband - 1
     split = geo.v("mesh", "split_width")
     frac = geo.v("mesh", "transition_height")
-    a = [0.0, geo.v("zones", "IIA_width"), geo.v("zones", "IIA_width") + geo.v("zones", "IIIA_width")]
-    b = [0.0]
-    # Line families: an upstream line has a constant horizontal offset from the cushion
-    # face, a downstream line from the downstream face. lines_at[j] = (a, b) on row line j.
-    u_born = {0: 0, 1: 0, 2: 0}     # index in a -> band where the line is born (bottom end)
-    births = {}                      # band -> (new a, new b) born at its bottom
+    # Line families: an upstream line keeps a constant horizontal offset from the cushion
+    # face, a downstream line from the downstream face. Each line is (offset, band at whose
+    # bottom it starts); the face, IIA and IIIA lines run from the base (band -1 never ends
+    # them). A line is on row line j when it starts at band j or above.
+    never = nband
+    a = [(0.0, never), (geo.v("zones", "IIA_width"), never),
+         (geo.v("zones", "IIA_width") + geo.v("zones", "IIIA_width"), never)]
+    b = [(0.0, never)]
+    births = set()                   # bands whose bottom starts a new line of each family
     for j in range(bands_top, -1, -1):
         width = geo.x_down(y[j]) - geo.x_up(y[j])
-        gap = width - a[-1] - b[-1]
+        gap = width - a[-1][0] - b[-1][0]
         if gap > split:
             # The new lines start one slope-run of the row from the old ones, so that each
             # ends right below the old line's top node (transition quads stay convex with
             # angles no smaller than the face's).
             h = y[j + 1] - y[j]
-            births[j] = (a[-1] + geo.su * h, b[-1] + geo.sd * h)
-            a.append(a[-1] + geo.su * h)
-            b.append(b[-1] + geo.sd * h)
-    # Offsets present on row line j: those born at a band below j or never born (initial).
-    # Walk the bands again bottom-up with the birth record.
-    a_all = a
-    b_all = b
-    n_initial_a = 3
-    born_band_a = {}
-    born_band_b = {}
-    k = n_initial_a
-    kb = 1
-    for j in range(bands_top, -1, -1):
-        if j in births:
-            born_band_a[k] = j
-            born_band_b[kb] = j
-            k += 1
-            kb += 1
+            births.add(j)
+            a.append((a[-1][0] + geo.su * h, j))
+            b.append((b[-1][0] + geo.sd * h, j))
 
-    def lines_on(j, include_born_here):
-        """Offsets (a, b) present on row line j (j = bottom of band j)."""
-        aa = [a_all[i] for i in range(len(a_all))
-              if i < n_initial_a or born_band_a[i] > j or (include_born_here and born_band_a[i] == j)]
-        bb = [b_all[i] for i in range(len(b_all))
-              if i < 1 or born_band_b[i] > j or (include_born_here and born_band_b[i] == j)]
-        return aa, bb
+    def lines_on(j):
+        """Offsets (upstream, downstream) of the lines on row line j."""
+        return ([off for off, born in a if born >= j], [off for off, born in b if born >= j])
 
     def row_keys(j, aa, bb):
         """Node keys and points along row line j, upstream to downstream."""
@@ -213,8 +200,8 @@ def build_x1(geo, interface="bonded"):
         return keys
 
     for j in range(nband):
-        aa_top, bb_top = lines_on(j + 1, True)
-        aa_bot, bb_bot = lines_on(j, True)
+        aa_top, bb_top = lines_on(j + 1)
+        aa_bot, bb_bot = lines_on(j)
         top = row_keys(j + 1, aa_top, bb_top)
         bot = row_keys(j, aa_bot, bb_bot)
         if j in births:
