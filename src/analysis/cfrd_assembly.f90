@@ -188,34 +188,35 @@ contains
         end do
     end subroutine fill_forces
 
-    !> The tangent of element e at each Gauss point from its stresses and history.
-    pure subroutine element_tangents(model, e, stress, history, dmat)
+    !> The tangent of element e at each integration point from its stresses, total strains
+    !> and history.
+    pure subroutine element_tangents(model, e, stress, strain, history, dmat)
         type(model_t), intent(in) :: model
         integer, intent(in) :: e
-        real(dp), intent(in) :: stress(:, :), history(:, :)
+        real(dp), intent(in) :: stress(:, :), strain(:, :), history(:, :)
         real(dp), intent(out) :: dmat(:, :, :)
         integer :: ig
         do ig = 1, size(dmat, 3)
             call material_tangent(model%materials(model%mesh%material(e)), model%pa, &
-                                  stress(:, ig), history(:, ig), dmat(:, :, ig))
+                                  stress(:, ig), strain(:, ig), history(:, ig), dmat(:, :, ig))
         end do
     end subroutine element_tangents
 
-    !> Assemble the tangent stiffness of the active elements at the given Gauss-point
-    !> stresses (4, ngauss, nelem) and history (nhistory, ngauss, nelem) into `values`.
-    !> With `tangents` (4, 4, ngauss, nelem) given, those matrices are used instead of the
-    !> material tangent (Newton's consistent tangent).
-    subroutine assemble_tangent(model, library, active, pattern, stress, history, values, &
-                                tangents)
+    !> Assemble the tangent stiffness of the active elements at the given integration-point
+    !> stresses and total strains (4, ngauss, nelem) and history (nhistory, ngauss, nelem)
+    !> into `values`. With `tangents` (4, 4, ngauss, nelem) given, those matrices are used
+    !> instead of the material tangent (Newton's consistent tangent).
+    subroutine assemble_tangent(model, library, active, pattern, stress, strain, history, &
+                                values, tangents)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         logical, intent(in) :: active(:)
         type(sparse_pattern_t), intent(in) :: pattern
-        real(dp), intent(in) :: stress(:, :, :), history(:, :, :)
+        real(dp), intent(in) :: stress(:, :, :), strain(:, :, :), history(:, :, :)
         real(dp), intent(out) :: values(:)
         real(dp), intent(in), optional :: tangents(:, :, :, :)
         real(dp) :: ke(16, 16), dmat(4, 4, 4)
-        integer :: e, nn, ng
+        integer :: e, nn, ng, nc
         values = 0.0_dp
         associate (mesh => model%mesh)
             do e = 1, mesh%nelem
@@ -223,14 +224,15 @@ contains
                 associate (element => library(mesh%kind(e))%element)
                     nn = element%nodes()
                     ng = element%gauss_points()
+                    nc = element%components()
                     if (present(tangents)) then
                         dmat(:, :, 1:ng) = tangents(:, :, 1:ng, e)
                     else
-                        call element_tangents(model, e, stress(:, 1:ng, e), &
+                        call element_tangents(model, e, stress(:, 1:ng, e), strain(:, 1:ng, e), &
                                               history(1:nhistory, 1:ng, e), dmat(:, :, 1:ng))
                     end if
-                    call element%stiffness(mesh%x(:, mesh%conn(1:nn, e)), dmat(:, :, 1:ng), &
-                                           ke(1:2*nn, 1:2*nn))
+                    call element%stiffness(mesh%x(:, mesh%conn(1:nn, e)), &
+                                           dmat(1:nc, 1:nc, 1:ng), ke(1:2*nn, 1:2*nn))
                     call assemble_element(pattern, values, e, ke(1:2*nn, 1:2*nn))
                 end associate
             end do
@@ -245,7 +247,7 @@ contains
         real(dp), intent(in) :: stress(:, :, :)
         real(dp), intent(out) :: force(:, :)
         real(dp) :: fe(16)
-        integer :: e, nn, ng
+        integer :: e, nn, ng, nc
         force = 0.0_dp
         associate (mesh => model%mesh)
             do e = 1, mesh%nelem
@@ -253,8 +255,9 @@ contains
                 associate (element => library(mesh%kind(e))%element)
                     nn = element%nodes()
                     ng = element%gauss_points()
+                    nc = element%components()
                     call element%internal_force(mesh%x(:, mesh%conn(1:nn, e)), &
-                                                stress(:, 1:ng, e), fe(1:2*nn))
+                                                stress(1:nc, 1:ng, e), fe(1:2*nn))
                     call scatter_add(model, e, nn, fe(1:2*nn), force)
                 end associate
             end do

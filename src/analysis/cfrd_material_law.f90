@@ -1,16 +1,20 @@
-!> The one place where a material law is chosen: the tangent matrix at a Gauss point from its
-!> stress and history, and the history update after an accepted increment. History lives in a
-!> plain array per Gauss point, so the state needs no knowledge of the laws.
+!> The one place where a material law is chosen: the tangent matrix at an integration point
+!> from its stress, total strain and history, the stress update over a strain increment,
+!> its derivative (Newton's tangent), and the history update after an accepted increment.
+!> History lives in a plain array per point, so the state needs no knowledge of the laws.
+!> Stress and strain are 4-vectors (xx, yy, zz, xy) for solids; a joint uses components 1-2
+!> for (sigma_n, tau) and (du_n, du_s) and leaves 3-4 at zero.
 module cfrd_material_law
     use cfrd_kinds, only: dp
-    use cfrd_model, only: material_t, law_elastic, law_duncan_eb
+    use cfrd_model, only: material_t, law_elastic, law_duncan_eb, law_goodman
     use cfrd_elastic, only: elastic_dmatrix
     use cfrd_duncan_eb, only: eb_params_t, eb_tangent, eb_stress_state, eb_state_t
+    use cfrd_goodman, only: goodman_params_t, goodman_tangent, goodman_update
     implicit none
     private
 
-    public :: nhistory, material_tangent, update_history, is_linear, eb_parameters
-    public :: stress_level
+    public :: nhistory, material_tangent, material_update, material_update_tangent
+    public :: update_history, is_linear, eb_parameters, goodman_parameters, stress_level
 
     !> History values per Gauss point. E-B: (1) past maximum of Duncan's stress-state
     !> function, (2) past maximum of the stress level.
@@ -35,18 +39,83 @@ contains
                         sigma3_floor=mat%sigma3_floor)
     end function eb_parameters
 
-    !> Tangent matrix d(4,4) for stress (xx, yy, zz, xy; tension positive) and history.
-    pure subroutine material_tangent(mat, pa, stress, history, d)
+    !> The Goodman parameters of a material card, with the deck's atmospheric pressure.
+    pure function goodman_parameters(mat, pa) result(p)
         type(material_t), intent(in) :: mat
-        real(dp), intent(in) :: pa, stress(4), history(nhistory)
+        real(dp), intent(in) :: pa
+        type(goodman_params_t) :: p
+        p = goodman_params_t(kn_compression=mat%kn_compression, kn_tension=mat%kn_tension, &
+                             k1=mat%k1, n1=mat%n1, rf1=mat%rf1, phi=mat%phi, &
+                             gamma_w=mat%gamma_w, pa=pa, sigma_n_floor=mat%sigma_n_floor, &
+                             tension_cutoff=mat%tension_cutoff)
+    end function goodman_parameters
+
+    !> Tangent matrix d(4,4) at stress (tension positive), total strain and history.
+    pure subroutine material_tangent(mat, pa, stress, strain, history, d)
+        type(material_t), intent(in) :: mat
+        real(dp), intent(in) :: pa, stress(4), strain(4), history(nhistory)
         real(dp), intent(out) :: d(4, 4)
         select case (mat%law)
         case (law_duncan_eb)
             call eb_tangent(eb_parameters(mat, pa), stress, history(1), d)
+        case (law_goodman)
+            d = 0.0_dp
+            call goodman_tangent(goodman_parameters(mat, pa), stress(1:2), strain(1), &
+                                 d(1:2, 1:2))
         case default
             d = elastic_dmatrix(mat%youngs_modulus, mat%poisson_ratio)
         end select
     end subroutine material_tangent
+
+    !> Stress after the strain increment de from (stress, strain, history): with `midpoint`
+    !> sigma + D(sigma + D(sigma) de/2) de, else sigma + D(sigma) de (docs/theory.md
+    !> section 9); the Goodman law updates its normal traction exactly and caps the shear
+    !> at the Coulomb limit (section 12). stress_mid: the half-way stress.
+    pure subroutine material_update(mat, pa, stress, strain, history, de, midpoint, &
+                                    stress_new, stress_mid)
+        type(material_t), intent(in) :: mat
+        real(dp), intent(in) :: pa, stress(4), strain(4), history(nhistory), de(4)
+        logical, intent(in) :: midpoint
+        real(dp), intent(out) :: stress_new(4), stress_mid(4)
+        real(dp) :: d(4, 4)
+        if (mat%law == law_goodman) then
+            stress_new = 0.0_dp
+            stress_mid = 0.0_dp
+            call goodman_update(goodman_parameters(mat, pa), stress(1:2), strain(1), de(1:2), &
+                                midpoint, stress_new(1:2), stress_mid(1:2))
+            return
+        end if
+        call material_tangent(mat, pa, stress, strain, history, d)
+        stress_mid = stress + 0.5_dp*matmul(d, de)
+        if (midpoint) call material_tangent(mat, pa, stress_mid, strain + 0.5_dp*de, &
+                                            history, d)
+        stress_new = stress + matmul(d, de)
+    end subroutine material_update
+
+    !> d stress_new / d de of the midpoint update: the tangent that makes Newton's
+    !> iterations converge fast on the E-B law, whose tangent changes along an increment,
+    !> by forward differences (step sqrt(eps) of the increment); not symmetric in general.
+    !> The Goodman law returns its tangent at the half-way state instead, whose floors keep
+    !> the matrix regular where a joint slips or opens.
+    pure subroutine material_update_tangent(mat, pa, stress, strain, history, de, c)
+        type(material_t), intent(in) :: mat
+        real(dp), intent(in) :: pa, stress(4), strain(4), history(nhistory), de(4)
+        real(dp), intent(out) :: c(4, 4)
+        real(dp) :: base(4), mid(4), shifted(4), h, dd(4)
+        integer :: j
+        call material_update(mat, pa, stress, strain, history, de, .true., base, mid)
+        if (mat%law == law_goodman) then
+            call material_tangent(mat, pa, mid, strain + 0.5_dp*de, history, c)
+            return
+        end if
+        h = 1.5e-8_dp*max(maxval(abs(de)), 1.0e-9_dp)
+        do j = 1, 4
+            dd = de
+            dd(j) = dd(j) + h
+            call material_update(mat, pa, stress, strain, history, dd, .true., shifted, mid)
+            c(:, j) = (shifted - base)/h
+        end do
+    end subroutine material_update_tangent
 
     !> Stress level S of a Gauss point (0 for laws without one).
     pure real(dp) function stress_level(mat, pa, stress, history) result(level)

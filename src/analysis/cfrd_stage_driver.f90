@@ -15,16 +15,17 @@ module cfrd_stage_driver
     use cfrd_umfpack, only: umfpack_t
     use cfrd_principal, only: principal_stresses
     use cfrd_material_law, only: nhistory, is_linear, update_history, stress_level, &
-                                 material_tangent
+                                 material_update, material_update_tangent
     use cfrd_assembly, only: element_box_t, dof_map_t, make_elements, number_equations, &
                              load_set_forces, fill_forces, assemble_tangent, internal_forces, &
-                             element_tangents, gather, active_nodes
+                             gather, active_nodes
     use cfrd_water, only: water_forces, lowest_wet_point
     implicit none
     private
 
     public :: run_analysis, progress_interface
 
+    !> Most integration points of any element kind (quads 4, joints 2).
     integer, parameter :: ngauss = 4
 
     !> Called after each stage, e.g. to print a progress line.
@@ -42,6 +43,8 @@ module cfrd_stage_driver
         real(dp), allocatable :: u(:, :)             !! (2, nnode)
         real(dp), allocatable :: u_before_reset(:, :) !! (2, nnode) sum of u at the resets
         real(dp), allocatable :: stress(:, :, :)     !! (4, ngauss, nelem)
+        !> (4, ngauss, nelem) total strain since placement (a joint: relative displacement)
+        real(dp), allocatable :: strain(:, :, :)
         real(dp), allocatable :: history(:, :, :)    !! (nhistory, ngauss, nelem)
         logical, allocatable :: active(:)            !! (nelem)
         real(dp), allocatable :: f_ext(:, :)         !! (2, nnode) applied so far
@@ -106,6 +109,7 @@ contains
             allocate (state%u(2, mesh%nnode), state%f_ext(2, mesh%nnode), source=0.0_dp)
             allocate (state%u_before_reset(2, mesh%nnode), source=0.0_dp)
             allocate (state%stress(4, ngauss, mesh%nelem), source=0.0_dp)
+            allocate (state%strain(4, ngauss, mesh%nelem), source=0.0_dp)
             allocate (state%history(nhistory, ngauss, mesh%nelem), source=0.0_dp)
         end associate
     end subroutine initial_state
@@ -299,7 +303,7 @@ contains
         if (linear .and. system%factorised_linear) return
         t0 = wall_seconds()
         call assemble_tangent(model, library, state%active, system%pattern, stress, &
-                              state%history, system%values, tangents)
+                              state%strain, state%history, system%values, tangents)
         t1 = wall_seconds()
         result%stats%t_assembly = result%stats%t_assembly + (t1 - t0)
         if (.not. system%analysed) then
@@ -445,7 +449,7 @@ contains
         state%u = state%u + du
         state%stress = stress_end
         state%f_ext = f_target
-        call accept_history(model, state)
+        call accept_history(model, library, state, du)
         result%max_residual = max(result%max_residual, residual)
     end subroutine solve_increment
 
@@ -500,118 +504,92 @@ contains
         end do
     end subroutine solve_out_of_balance
 
-    !> Stresses after the displacement increment du from the state's stresses: the strain
-    !> increment at each Gauss point is integrated with the tangent at its midpoint,
-    !> sigma_end = sigma_n + D(sigma_n + D(sigma_n) de/2) de when `midpoint`, else with the
-    !> tangent at the start. `stress_mid` returns the half-way stresses of that integration.
-    subroutine integrate_stress(model, library, state, du, stress_end, stress_mid, midpoint)
+    !> Strain (or relative displacement) increments of element e for the nodal increment du,
+    !> zero-padded to (4, ngauss); ng: the element's integration points.
+    subroutine element_strains(model, library, e, du, strain, ng)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        integer, intent(in) :: e
+        real(dp), intent(in) :: du(:, :)
+        real(dp), intent(out) :: strain(4, ngauss)
+        integer, intent(out) :: ng
+        integer :: nn, nc
+        associate (element => library(model%mesh%kind(e))%element)
+            nn = element%nodes()
+            ng = element%gauss_points()
+            nc = element%components()
+            strain = 0.0_dp
+            call element%strains(model%mesh%x(:, model%mesh%conn(1:nn, e)), &
+                                 gather(model, e, nn, du), strain(1:nc, 1:ng))
+        end associate
+    end subroutine element_strains
+
+    !> Stresses after the displacement increment du from `stress` (the state's stresses
+    !> when absent): each point's law integrates its strain increment, with the tangent at
+    !> the midpoint when `midpoint` (docs/theory.md sections 9 and 12). `stress_mid`
+    !> returns the half-way stresses of that integration.
+    subroutine integrate_stress(model, library, state, du, stress_end, stress_mid, midpoint, &
+                                stress)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(in) :: state
         real(dp), intent(in) :: du(:, :)
         real(dp), allocatable, intent(out) :: stress_end(:, :, :), stress_mid(:, :, :)
         logical, intent(in) :: midpoint
-        real(dp) :: dmat(4, 4, ngauss), strain(4, ngauss)
-        integer :: e, nn, ig
-        stress_end = state%stress
-        stress_mid = state%stress
-        associate (mesh => model%mesh)
-            do e = 1, mesh%nelem
-                if (.not. state%active(e)) cycle
-                associate (element => library(mesh%kind(e))%element)
-                    nn = element%nodes()
-                    call element%strains(mesh%x(:, mesh%conn(1:nn, e)), &
-                                         gather(model, e, nn, du), strain)
-                    call element_tangents(model, e, state%stress(:, :, e), &
-                                          state%history(:, :, e), dmat)
-                    do ig = 1, ngauss
-                        stress_mid(:, ig, e) = state%stress(:, ig, e) + &
-                                               0.5_dp*matmul(dmat(:, :, ig), strain(:, ig))
-                    end do
-                    if (midpoint) call element_tangents(model, e, stress_mid(:, :, e), &
-                                                        state%history(:, :, e), dmat)
-                    do ig = 1, ngauss
-                        stress_end(:, ig, e) = state%stress(:, ig, e) + &
-                                               matmul(dmat(:, :, ig), strain(:, ig))
-                    end do
-                end associate
+        real(dp), intent(in), optional :: stress(:, :, :)
+        real(dp) :: strain(4, ngauss), start(4)
+        integer :: e, ng, ig
+        if (present(stress)) then
+            stress_end = stress
+        else
+            stress_end = state%stress
+        end if
+        stress_mid = stress_end
+        do e = 1, model%mesh%nelem
+            if (.not. state%active(e)) cycle
+            call element_strains(model, library, e, du, strain, ng)
+            do ig = 1, ng
+                start = stress_end(:, ig, e)
+                call material_update(model%materials(model%mesh%material(e)), model%pa, &
+                                     start, state%strain(:, ig, e), &
+                                     state%history(:, ig, e), strain(:, ig), midpoint, &
+                                     stress_end(:, ig, e), stress_mid(:, ig, e))
             end do
-        end associate
+        end do
     end subroutine integrate_stress
 
-    !> stress + D(stress) B du at every Gauss point of the active elements.
+    !> stress + D(stress) B du (forward Euler) at every point of the active elements.
     function stress_after(model, library, state, stress, du) result(stress_new)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(in) :: state
         real(dp), intent(in) :: stress(:, :, :), du(:, :)
-        real(dp), allocatable :: stress_new(:, :, :)
-        real(dp) :: dmat(4, 4, ngauss), strain(4, ngauss)
-        integer :: e, nn, ig
-        stress_new = stress
-        associate (mesh => model%mesh)
-            do e = 1, mesh%nelem
-                if (.not. state%active(e)) cycle
-                associate (element => library(mesh%kind(e))%element)
-                    nn = element%nodes()
-                    call element%strains(mesh%x(:, mesh%conn(1:nn, e)), &
-                                         gather(model, e, nn, du), strain)
-                    call element_tangents(model, e, stress(:, :, e), state%history(:, :, e), &
-                                          dmat)
-                    do ig = 1, ngauss
-                        stress_new(:, ig, e) = stress(:, ig, e) + &
-                                               matmul(dmat(:, :, ig), strain(:, ig))
-                    end do
-                end associate
-            end do
-        end associate
+        real(dp), allocatable :: stress_new(:, :, :), stress_mid(:, :, :)
+        call integrate_stress(model, library, state, du, stress_new, stress_mid, .false., &
+                              stress)
     end function stress_after
 
-    !> d sigma_end / d(delta eps) of the midpoint stress update at every Gauss point of the
-    !> active elements, by forward differences (step sqrt(eps) of the strain increment): the
-    !> tangent that makes Newton's iterations converge fast on the E-B law, whose tangent
-    !> changes along an increment (docs/theory.md section 9). Not symmetric in general.
+    !> d sigma_end / d(delta eps) of the stress update at every point of the active elements
+    !> (cfrd_material_law: material_update_tangent), Newton's tangent.
     function consistent_tangents(model, library, state, du) result(c)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(in) :: state
         real(dp), intent(in) :: du(:, :)
         real(dp), allocatable :: c(:, :, :, :)
-        real(dp) :: strain(4, ngauss), base(4), h, de(4)
-        integer :: e, nn, ig, j
+        real(dp) :: strain(4, ngauss)
+        integer :: e, ng, ig
         allocate (c(4, 4, ngauss, model%mesh%nelem), source=0.0_dp)
-        associate (mesh => model%mesh)
-            do e = 1, mesh%nelem
-                if (.not. state%active(e)) cycle
-                associate (element => library(mesh%kind(e))%element, &
-                           mat => model%materials(mesh%material(e)))
-                    nn = element%nodes()
-                    call element%strains(mesh%x(:, mesh%conn(1:nn, e)), &
-                                         gather(model, e, nn, du), strain)
-                    do ig = 1, ngauss
-                        base = midpoint_update(strain(:, ig))
-                        h = 1.5e-8_dp*max(maxval(abs(strain(:, ig))), 1.0e-9_dp)
-                        do j = 1, 4
-                            de = strain(:, ig)
-                            de(j) = de(j) + h
-                            c(:, j, ig, e) = (midpoint_update(de) - base)/h
-                        end do
-                    end do
-                end associate
+        do e = 1, model%mesh%nelem
+            if (.not. state%active(e)) cycle
+            call element_strains(model, library, e, du, strain, ng)
+            do ig = 1, ng
+                call material_update_tangent(model%materials(model%mesh%material(e)), &
+                                             model%pa, state%stress(:, ig, e), &
+                                             state%strain(:, ig, e), state%history(:, ig, e), &
+                                             strain(:, ig), c(:, :, ig, e))
             end do
-        end associate
-    contains
-        !> sigma_n + D(sigma_n + D(sigma_n) de/2) de at Gauss point ig of element e.
-        function midpoint_update(de) result(sig)
-            real(dp), intent(in) :: de(4)
-            real(dp) :: sig(4), d(4, 4), half(4)
-            call material_tangent(model%materials(model%mesh%material(e)), model%pa, &
-                                  state%stress(:, ig, e), state%history(:, ig, e), d)
-            half = state%stress(:, ig, e) + 0.5_dp*matmul(d, de)
-            call material_tangent(model%materials(model%mesh%material(e)), model%pa, half, &
-                                  state%history(:, ig, e), d)
-            sig = state%stress(:, ig, e) + matmul(d, de)
-        end function midpoint_update
+        end do
     end function consistent_tangents
 
     !> |f_target - f_int(stress)| over the free dofs.
@@ -628,13 +606,19 @@ contains
         norm = norm2(merge(f_target - f_int, 0.0_dp, dofmap%eq > 0))
     end function out_of_balance
 
-    subroutine accept_history(model, state)
+    !> After an accepted increment du: total strains since placement, and the laws' history.
+    subroutine accept_history(model, library, state, du)
         type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(inout) :: state
-        integer :: e, ig
+        real(dp), intent(in) :: du(:, :)
+        real(dp) :: strain(4, ngauss)
+        integer :: e, ig, ng
         do e = 1, model%mesh%nelem
             if (.not. state%active(e)) cycle
-            do ig = 1, ngauss
+            call element_strains(model, library, e, du, strain, ng)
+            state%strain(:, 1:ng, e) = state%strain(:, 1:ng, e) + strain(:, 1:ng)
+            do ig = 1, ng
                 call update_history(model%materials(model%mesh%material(e)), model%pa, &
                                     state%stress(:, ig, e), state%history(:, ig, e))
             end do
@@ -649,13 +633,13 @@ contains
         type(stage_result_t), intent(inout) :: result
         real(dp), allocatable :: f_int(:, :)
         logical, allocatable :: used(:)
-        integer :: e, ig
+        integer :: e, ig, ng
         associate (mesh => model%mesh)
             result%active = state%active
             allocate (result%stress_level(mesh%nelem), source=0.0_dp)
             do e = 1, mesh%nelem
                 if (.not. state%active(e)) cycle
-                do ig = 1, ngauss
+                do ig = 1, library(mesh%kind(e))%element%gauss_points()
                     result%stress_level(e) = max(result%stress_level(e), stress_level( &
                         model%materials(mesh%material(e)), model%pa, state%stress(:, ig, e), &
                         state%history(:, ig, e)))
@@ -666,10 +650,15 @@ contains
             result%displacement = state%u
             result%displacement_total = state%u_before_reset + state%u
             result%stress_gauss = state%stress
+            result%strain_gauss = state%strain
             allocate (result%stress_centroid(4, mesh%nelem), result%principal(3, mesh%nelem))
             do e = 1, mesh%nelem
-                result%stress_centroid(:, e) = sum(state%stress(:, :, e), dim=2)/ngauss
-                result%principal(:, e) = principal_stresses(result%stress_centroid(:, e))
+                ng = library(mesh%kind(e))%element%gauss_points()
+                result%stress_centroid(:, e) = sum(state%stress(:, 1:ng, e), dim=2)/ng
+                result%principal(:, e) = 0.0_dp
+                ! Principal stresses of solids; a joint's (sigma_n, tau) have none.
+                if (library(mesh%kind(e))%element%components() == 4) &
+                    result%principal(:, e) = principal_stresses(result%stress_centroid(:, e))
             end do
             allocate (f_int(2, mesh%nnode))
             call internal_forces(model, library, state%active, state%stress, f_int)

@@ -1,12 +1,13 @@
-!> The one element interface (after FEAP): every element kind, solid quads now and joints,
-!> thin layers and contact segments later, answers the same questions, so assembly and output
+!> The one element interface (after FEAP): every element kind, solid quads and thin layers,
+!> zero-thickness joints, and contact segments later, answers the same questions, so assembly and output
 !> go through one loop. The element knows geometry and kinematics only; the material law's
 !> tangent and stresses are handed in per integration point by the caller, so an element never
 !> needs to know which law it carries.
 !>
 !> Arrays: x(2, nodes) nodal coordinates; u(2*nodes) nodal displacements ordered
 !> (ux1, uy1, ux2, uy2, ...); dmat(ncomp, ncomp, ngauss) tangent per integration point;
-!> strain and stress (ncomp, ngauss).
+!> strain and stress (ncomp, ngauss). A joint's "strains" are the relative displacements
+!> (normal, tangential) and its "stresses" the tractions (sigma_n, tau).
 module cfrd_element
     use cfrd_kinds, only: dp
     implicit none
@@ -33,7 +34,7 @@ module cfrd_element
         !> Consistent nodal forces of a normal pressure on the straight face xa -> xb.
         procedure(face_pressure_i), deferred :: face_pressure
         !> Global coordinates of the integration points.
-        procedure(gauss_coordinates_i), deferred, nopass :: gauss_coordinates
+        procedure(gauss_coordinates_i), deferred :: gauss_coordinates
     end type element_t
 
     abstract interface
@@ -75,8 +76,9 @@ module cfrd_element
             real(dp), intent(out) :: fa(2), fb(2)
         end subroutine face_pressure_i
 
-        pure subroutine gauss_coordinates_i(x, xg)
-            import :: dp
+        pure subroutine gauss_coordinates_i(self, x, xg)
+            import :: dp, element_t
+            class(element_t), intent(in) :: self
             real(dp), intent(in) :: x(:, :)
             real(dp), intent(out) :: xg(:, :)
         end subroutine gauss_coordinates_i

@@ -3,7 +3,8 @@ module cfrd_element_library
     use cfrd_error, only: error_t, fatal_error
     use cfrd_element, only: element_t
     use cfrd_quad4, only: quad4_t
-    use cfrd_model, only: elem_quad4, axisymmetric
+    use cfrd_joint4, only: joint4_t
+    use cfrd_model, only: elem_quad4, elem_joint_gauss, elem_joint_lobatto, axisymmetric
     implicit none
     private
 
@@ -21,6 +22,9 @@ contains
         select case (kind)
         case (elem_quad4)
             allocate (element, source=quad4_t(axisymmetric=analysis == axisymmetric))
+        case (elem_joint_gauss, elem_joint_lobatto)
+            allocate (element, source=joint4_t(lobatto=kind == elem_joint_lobatto, &
+                                               axisymmetric=analysis == axisymmetric))
         case default
             write (text, '(i0)') kind
             call fatal_error(error, 'internal: no element implementation for kind '//trim(text))

@@ -26,7 +26,7 @@ module cfrd_quad4
         procedure :: internal_force
         procedure :: body_force
         procedure :: face_pressure
-        procedure, nopass :: gauss_coordinates
+        procedure :: gauss_coordinates
     end type quad4_t
 
 contains
@@ -163,7 +163,8 @@ contains
         end do
     end subroutine face_pressure
 
-    pure subroutine gauss_coordinates(x, xg)
+    pure subroutine gauss_coordinates(self, x, xg)
+        class(quad4_t), intent(in) :: self
         real(dp), intent(in) :: x(:, :)
         real(dp), intent(out) :: xg(:, :)
         real(dp) :: points(2, ngauss), weights(ngauss)

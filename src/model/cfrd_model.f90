@@ -10,7 +10,9 @@ module cfrd_model
     public :: model_t, mesh_t, material_t, gravity_load_t, pressure_load_t, load_set_t
     public :: stage_t, stage_fill, stage_load, stage_reset, stage_water, stage_kind_name
     public :: wet_face_t, gauge_t, dry_level
-    public :: plane_strain, axisymmetric, law_elastic, law_duncan_eb, elem_quad4, all_groups
+    public :: plane_strain, axisymmetric, law_elastic, law_duncan_eb, law_goodman, all_groups
+    public :: elem_quad4, elem_joint_gauss, elem_joint_lobatto, is_joint_kind
+    public :: interface_element_t, method_joint, method_thin, method_name
     public :: newtop_count, newtop_zero, solver_midpoint, solver_euler, solver_newton
     public :: law_name
 
@@ -21,6 +23,7 @@ module cfrd_model
     !> Material laws (MATERIALS card, field LAW).
     integer, parameter :: law_elastic = 1
     integer, parameter :: law_duncan_eb = 2
+    integer, parameter :: law_goodman = 3    !! interface law of zero-thickness joints
 
     !> Stage kinds (STAGES cards).
     integer, parameter :: stage_fill = 1    !! activate an element group under its own weight
@@ -43,6 +46,12 @@ module cfrd_model
 
     !> Element kinds; the element factory maps each to an element implementation.
     integer, parameter :: elem_quad4 = 1
+    integer, parameter :: elem_joint_gauss = 2     !! Goodman joint, 2-point Gauss rule
+    integer, parameter :: elem_joint_lobatto = 3   !! Goodman joint, 2-point Newton-Cotes rule
+
+    !> Interface methods (INTERFACE cards, field TYPE).
+    integer, parameter :: method_joint = 1   !! zero-thickness Goodman joint elements
+    integer, parameter :: method_thin = 2    !! thin-layer solid elements (quads)
 
     !> Group index meaning "every element" in a gravity load.
     integer, parameter :: all_groups = 0
@@ -60,7 +69,24 @@ module cfrd_model
         real(dp) :: k_bulk = 0.0_dp, m_exponent = 0.0_dp
         real(dp) :: phi0 = 0.0_dp, dphi = 0.0_dp, cohesion = 0.0_dp
         real(dp) :: k_unload = 0.0_dp, sigma3_floor = 0.0_dp
+        !> Goodman joint (law GOODMAN, paper eqs. 6-7): normal stiffness in compression and
+        !> in tension (kPa/m), k1, n1, Rf1, friction angle phi (deg), floor on the
+        !> compressive normal stress in ks (kPa), gamma_w (kN/m3, from CONTROL), tension
+        !> cut-off (an open joint carries no stress)
+        real(dp) :: kn_compression = 0.0_dp, kn_tension = 0.0_dp
+        real(dp) :: k1 = 0.0_dp, n1 = 0.0_dp, rf1 = 0.0_dp, phi = 0.0_dp
+        real(dp) :: sigma_n_floor = 0.0_dp, gamma_w = 9.81_dp
+        logical :: tension_cutoff = .false.
     end type material_t
+
+    !> One element of an interface line (INTERFACE cards): a joint or a thin-layer quad
+    !> between the pairs k and k+1 of bottom (cushion side) and top (slab side) nodes,
+    !> conn = (bottom k, bottom k+1, top k+1, top k).
+    type :: interface_element_t
+        integer :: element = 0      !! element number in the mesh
+        integer :: line = 0         !! interface line number
+        integer :: method = method_joint
+    end type interface_element_t
 
     !> Nodes and elements. Triangles are degenerate quads with conn(4,e) == conn(3,e).
     type :: mesh_t
@@ -148,6 +174,9 @@ module cfrd_model
         type(stage_t), allocatable :: stages(:)
         type(wet_face_t), allocatable :: wet_faces(:)   !! RESERVOIR cards
         type(gauge_t), allocatable :: gauges(:)         !! GAUGES cards
+        !> INTERFACE cards: the interface elements in line order
+        type(interface_element_t), allocatable :: interfaces(:)
+        integer, allocatable :: slab_groups(:)          !! SLAB cards: element groups
         integer :: newtop = newtop_zero
         integer :: solver = solver_midpoint
         real(dp) :: tolerance = 1.0e-6_dp     !! Newton: residual / load, SOLVER = 3
@@ -165,10 +194,26 @@ contains
             name = 'ELASTIC'
         case (law_duncan_eb)
             name = 'EB'
+        case (law_goodman)
+            name = 'GOODMAN'
         case default
             name = 'UNKNOWN'
         end select
     end function law_name
+
+    !> Whether an element kind is a zero-thickness joint.
+    pure logical function is_joint_kind(kind)
+        integer, intent(in) :: kind
+        is_joint_kind = kind == elem_joint_gauss .or. kind == elem_joint_lobatto
+    end function is_joint_kind
+
+    !> The deck keyword of an interface method.
+    pure function method_name(method) result(name)
+        integer, intent(in) :: method
+        character(len=:), allocatable :: name
+        name = merge('JOINT', 'THIN ', method == method_joint)
+        name = trim(name)
+    end function method_name
 
     !> The deck keyword of a stage kind.
     pure function stage_kind_name(kind) result(name)

@@ -39,7 +39,12 @@ module cfrd_results
         !> RESET stages are added back (what a gauge installed with the fill measures)
         real(dp), allocatable :: displacement_total(:, :)
         real(dp), allocatable :: reaction(:, :)       !! (2, nnode) kN/m, zero at free dofs
-        real(dp), allocatable :: stress_gauss(:, :, :) !! (4, ngauss=4, nelem) kPa
+        !> (4, ngauss=4, nelem) kPa at the integration points; a joint: (sigma_n, tau) in
+        !> components 1-2 at its 2 points, the rest zero
+        real(dp), allocatable :: stress_gauss(:, :, :)
+        !> (4, ngauss=4, nelem) total strain since placement; a joint: relative displacements
+        !> (du_n, du_s) in m
+        real(dp), allocatable :: strain_gauss(:, :, :)
         real(dp), allocatable :: stress_centroid(:, :) !! (4, nelem) kPa
         real(dp), allocatable :: principal(:, :)      !! (3, nelem): sigma1, sigma3 (kPa), angle (deg)
         real(dp) :: applied_load(2) = 0.0_dp          !! sum of applied forces, kN/m

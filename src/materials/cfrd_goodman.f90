@@ -1,0 +1,106 @@
+!> The Goodman interface law of a zero-thickness joint (Goodman, Taylor & Brekke 1968;
+!> paper eqs. 5-7; docs/theory.md section 12) as pure functions. Tractions (sigma_n, tau)
+!> and relative displacements (du_n, du_s) of the joint's frame, tension and opening
+!> positive; inside eq. (7) the compressive normal stress p = -sigma_n is used.
+!>
+!> - Normal: sigma_n = kn_c du_n while the joint is closed (du_n <= 0), kn_t du_n when it is
+!>   open; with the tension cut-off an open joint carries sigma_n = 0 (and tau = 0). The
+!>   normal response depends on the total du_n only, so a joint that opens and closes
+!>   again comes back to the same stress.
+!> - Shear: incremental, d tau = ks d du_s with ks of eq. (7),
+!>   ks = k1 gamma_w (p/pa)^n1 (1 - Rf1 |tau| / (p tan phi))^2, p floored at sigma_n_floor;
+!>   the shear stress is then capped at the Coulomb limit |tau| <= max(p, 0) tan phi.
+!> - Tangent floors (only for a regular stiffness matrix; the stresses do not use them):
+!>   the hyperbolic factor at ks_residual, and an open joint's ks at kn_t.
+module cfrd_goodman
+    use cfrd_kinds, only: dp
+    implicit none
+    private
+
+    public :: goodman_params_t, goodman_tangent, goodman_update, goodman_shear_stiffness
+    public :: goodman_normal_stress, coulomb_limit
+
+    real(dp), parameter :: deg = 0.017453292519943295769_dp
+    !> Floor of the hyperbolic factor (1 - Rf1 tau / tau_f)^2 in the tangent.
+    real(dp), parameter :: ks_residual = 1.0e-4_dp
+
+    type :: goodman_params_t
+        real(dp) :: kn_compression = 0.0_dp   !! kPa/m
+        real(dp) :: kn_tension = 0.0_dp       !! kPa/m
+        real(dp) :: k1 = 0.0_dp, n1 = 0.0_dp, rf1 = 0.0_dp
+        real(dp) :: phi = 0.0_dp              !! deg
+        real(dp) :: gamma_w = 9.81_dp         !! kN/m3
+        real(dp) :: pa = 101.325_dp           !! kPa
+        real(dp) :: sigma_n_floor = 10.1325_dp   !! kPa
+        logical :: tension_cutoff = .false.
+    end type goodman_params_t
+
+contains
+
+    !> Normal traction for the total normal relative displacement un.
+    pure real(dp) function goodman_normal_stress(p, un) result(sn)
+        type(goodman_params_t), intent(in) :: p
+        real(dp), intent(in) :: un
+        if (un <= 0.0_dp) then
+            sn = p%kn_compression*un
+        else if (p%tension_cutoff) then
+            sn = 0.0_dp
+        else
+            sn = p%kn_tension*un
+        end if
+    end function goodman_normal_stress
+
+    !> Coulomb limit tau_f = max(-sigma_n, 0) tan phi.
+    pure real(dp) function coulomb_limit(p, sn) result(tf)
+        type(goodman_params_t), intent(in) :: p
+        real(dp), intent(in) :: sn
+        tf = max(-sn, 0.0_dp)*tan(p%phi*deg)
+    end function coulomb_limit
+
+    !> Shear stiffness ks of eq. (7) at (sigma_n, tau), with the tangent floors.
+    pure real(dp) function goodman_shear_stiffness(p, sn, tau, un) result(ks)
+        type(goodman_params_t), intent(in) :: p
+        real(dp), intent(in) :: sn, tau, un
+        real(dp) :: pn, factor
+        if (un > 0.0_dp) then
+            ks = p%kn_tension
+            return
+        end if
+        pn = max(-sn, p%sigma_n_floor)
+        factor = max(1.0_dp - p%rf1*abs(tau)/(pn*tan(p%phi*deg)), 0.0_dp)**2
+        ks = p%k1*p%gamma_w*(pn/p%pa)**p%n1*max(factor, ks_residual)
+    end function goodman_shear_stiffness
+
+    !> Tangent d(2,2) = diag(kn, ks) (eq. 6) at tractions s = (sigma_n, tau) and total
+    !> normal relative displacement un.
+    pure subroutine goodman_tangent(p, s, un, d)
+        type(goodman_params_t), intent(in) :: p
+        real(dp), intent(in) :: s(2), un
+        real(dp), intent(out) :: d(2, 2)
+        d = 0.0_dp
+        d(1, 1) = merge(p%kn_tension, p%kn_compression, un > 0.0_dp)
+        d(2, 2) = goodman_shear_stiffness(p, s(1), s(2), un)
+    end subroutine goodman_tangent
+
+    !> Tractions after the relative displacement increment de = (d du_n, d du_s) from s at
+    !> total normal relative displacement un: normal exact, shear by the midpoint (or, with
+    !> midpoint false, forward Euler) rule, then the Coulomb cap. s_mid: half-way tractions.
+    pure subroutine goodman_update(p, s, un, de, midpoint, s_new, s_mid)
+        type(goodman_params_t), intent(in) :: p
+        real(dp), intent(in) :: s(2), un, de(2)
+        logical, intent(in) :: midpoint
+        real(dp), intent(out) :: s_new(2), s_mid(2)
+        real(dp) :: ks
+        s_mid(1) = goodman_normal_stress(p, un + 0.5_dp*de(1))
+        s_new(1) = goodman_normal_stress(p, un + de(1))
+        ks = goodman_shear_stiffness(p, s(1), s(2), un)
+        s_mid(2) = capped(s(2) + 0.5_dp*ks*de(2), s_mid(1))
+        if (midpoint) ks = goodman_shear_stiffness(p, s_mid(1), s_mid(2), un + 0.5_dp*de(1))
+        s_new(2) = capped(s(2) + ks*de(2), s_new(1))
+    contains
+        pure real(dp) function capped(tau, sn)
+            real(dp), intent(in) :: tau, sn
+            capped = sign(min(abs(tau), coulomb_limit(p, sn)), tau)
+        end function capped
+    end subroutine goodman_update
+end module cfrd_goodman
