@@ -11,6 +11,7 @@ program cfrd_main
     use cfrd_results, only: stage_result_t
     use cfrd_listing, only: write_listing, write_summary, write_gauge_csv
     use cfrd_hdf5, only: write_results_h5
+    use cfrd_interface_io, only: write_interface_csv, has_interfaces, has_slab
     use cfrd_files, only: move_file, delete_file, base_name, strip_extension
     use cfrd_memory, only: tune_allocator
     implicit none
@@ -51,9 +52,15 @@ contains
         type(results_t) :: results
         type(error_t), allocatable :: error
         character(len=:), allocatable :: stem
+        integer :: i
 
         status = 0
         call read_deck(path, model, error)
+        if (.not. allocated(error)) then
+            do i = 1, size(model%warnings)
+                write (error_unit, '(a)') 'cfrd: warning: '//path//': '//trim(model%warnings(i))
+            end do
+        end if
         if (.not. allocated(error) .and. options%check_only) then
             if (.not. options%quiet) write (output_unit, '(a,i0,a,i0,a)') path//': OK (', &
                 model%mesh%nnode, ' nodes, ', model%mesh%nelem, ' elements)'
@@ -102,7 +109,7 @@ contains
         flush (output_unit)
     end subroutine print_progress
 
-    !> Write both result files under temporary names, then rename them into place, so that a
+    !> Write the result files under temporary names, then rename them into place, so that a
     !> failed run leaves the results of an earlier run untouched.
     subroutine write_results(stem, model, results, error)
         character(len=*), intent(in) :: stem
@@ -110,21 +117,30 @@ contains
         type(results_t), intent(in) :: results
         type(error_t), allocatable, intent(out) :: error
         character(len=*), parameter :: part = '.part'
-        logical :: gauges
-        gauges = size(model%gauges) > 0
+        character(len=*), parameter :: csv(4) = [character(len=14) :: '-gauges.csv', &
+                                                 '-interface.csv', '-openings.csv', '-slab.csv']
+        logical :: written(4)
+        integer :: k
+        written = [size(model%gauges) > 0, has_interfaces(model), has_interfaces(model), &
+                   has_slab(model)]
         call write_listing(stem//'.out'//part, model, results, error)
         if (.not. allocated(error)) call write_results_h5(stem//'.h5'//part, model, results, &
                                                           error)
-        if (.not. allocated(error) .and. gauges) &
+        if (.not. allocated(error) .and. written(1)) &
             call write_gauge_csv(stem//'-gauges.csv'//part, model, results, error)
+        if (.not. allocated(error)) call write_interface_csv(stem, part, model, results, error)
         if (.not. allocated(error)) call move_file(stem//'.out'//part, stem//'.out', error)
         if (.not. allocated(error)) call move_file(stem//'.h5'//part, stem//'.h5', error)
-        if (.not. allocated(error) .and. gauges) &
-            call move_file(stem//'-gauges.csv'//part, stem//'-gauges.csv', error)
+        do k = 1, size(csv)
+            if (.not. allocated(error) .and. written(k)) &
+                call move_file(stem//trim(csv(k))//part, stem//trim(csv(k)), error)
+        end do
         if (allocated(error)) then
             call delete_file(stem//'.out'//part)
             call delete_file(stem//'.h5'//part)
-            call delete_file(stem//'-gauges.csv'//part)
+            do k = 1, size(csv)
+                call delete_file(stem//trim(csv(k))//part)
+            end do
         end if
     end subroutine write_results
 

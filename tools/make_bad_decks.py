@@ -56,7 +56,7 @@ cases = [
  ("degenerate-element", sub("    4    6    1       0.0       1.0       2.0       1.0", "    4    6    1       3.0       0.0       5.0       0.0"), "{f}:9: element 1 is degenerate"),
  ("material-out-of-range", sub("    1    1    2    5    4    1    1", "    1    1    2    5    4    2    1"), "{f}:9:26-30: field MAT of ELEMENTS 1: expected a material number from 1 to 1, found '2'"),
  ("missing-material-card", sub("   20000.0       0.3      20.0\n", ""), "{f}:11: MATERIALS 1: missing parameter card (E, NU, GAMMA)"),
- ("unknown-law", sub("    1ELASTIC", "    1PLASTIC"), "{f}:11:6-15: field LAW of MATERIALS 1: expected a material law: ELASTIC or EB, found 'PLASTIC'"),
+ ("unknown-law", sub("    1ELASTIC", "    1PLASTIC"), "{f}:11:6-15: field LAW of MATERIALS 1: expected a material law: ELASTIC, EB or GOODMAN, found 'PLASTIC'"),
  ("unused-node", sub("    6    2    1\n", "         2    1\n").replace("ELEMENTS\n", "    7" + " "*10 + "       9.0       9.0\nELEMENTS\n"), "{f}:8: node 7 is used by no element"),
  ("rigid-no-x", sub("    1    3    1    1    1\n", "    1    3    1    0    1\n"), "{f}:13: rigid-body motion not suppressed: translation in x is free"),
  ("rigid-rotation", sub("    1    3    1    1    1\n", "    1" + " "*10 + "    1    1\n"), "{f}:13: rigid-body motion not suppressed: rotation is free"),

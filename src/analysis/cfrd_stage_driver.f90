@@ -20,6 +20,7 @@ module cfrd_stage_driver
                              load_set_forces, fill_forces, assemble_tangent, internal_forces, &
                              gather, active_nodes
     use cfrd_water, only: water_forces, lowest_wet_point
+    use cfrd_interface, only: interface_stations, phase_openings, slab_stresses
     implicit none
     private
 
@@ -651,6 +652,13 @@ contains
             result%displacement_total = state%u_before_reset + state%u
             result%stress_gauss = state%stress
             result%strain_gauss = state%strain
+            if (allocated(model%interfaces)) then
+                call interface_stations(model, state%stress, state%strain, state%active, &
+                                        result%interface)
+                call phase_openings(model, result%interface, result%openings)
+            end if
+            if (allocated(model%slab_groups)) &
+                call slab_stresses(model, state%stress, state%active, result%slab)
             allocate (result%stress_centroid(4, mesh%nelem), result%principal(3, mesh%nelem))
             do e = 1, mesh%nelem
                 ng = library(mesh%kind(e))%element%gauss_points()

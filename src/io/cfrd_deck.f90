@@ -5,12 +5,13 @@
 module cfrd_deck
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, input_error
-    use cfrd_model, only: model_t, material_t, gravity_load_t, pressure_load_t, load_set_t, &
+    use cfrd_model, only: model_t, mesh_t, material_t, gravity_load_t, pressure_load_t, load_set_t, &
                           stage_t, stage_fill, stage_load, stage_reset, stage_water, &
                           wet_face_t, gauge_t, newtop_zero, &
                           newtop_count, solver_midpoint, solver_newton, &
-                          plane_strain, axisymmetric, law_elastic, law_duncan_eb, elem_quad4, &
-                          all_groups
+                          plane_strain, axisymmetric, law_elastic, law_duncan_eb, law_goodman, &
+                          elem_quad4, elem_joint_gauss, elem_joint_lobatto, is_joint_kind, &
+                          interface_element_t, method_joint, method_thin, all_groups
     use cfrd_model_check, only: element_shape, first_unused_node, free_rigid_mode, &
                                 shape_ok, shape_degenerate, unplaced_load
     use cfrd_cards, only: card_t, field_t, deck_lines_t, int_field, real_field, text_field, &
@@ -24,15 +25,18 @@ module cfrd_deck
 
     integer, parameter :: g_title = 1, g_control = 2, g_nodes = 3, g_elements = 4, &
                           g_materials = 5, g_boundary = 6, g_loads = 7, g_stages = 8, &
-                          g_reservoir = 9, g_gauges = 10, ngroups = 10
+                          g_reservoir = 9, g_gauges = 10, g_interface = 11, g_slab = 12, &
+                          ngroups = 12
     character(len=10), parameter :: group_keywords(ngroups) = [character(len=10) :: &
                                     'TITLE', 'CONTROL', 'NODES', 'ELEMENTS', 'MATERIALS', &
-                                    'BOUNDARY', 'LOADS', 'STAGES', 'RESERVOIR', 'GAUGES']
+                                    'BOUNDARY', 'LOADS', 'STAGES', 'RESERVOIR', 'GAUGES', &
+                                    'INTERFACE', 'SLAB']
     character(len=*), parameter :: valid_groups = 'TITLE, CONTROL, NODES, ELEMENTS, '// &
-                                   'MATERIALS, BOUNDARY, LOADS, STAGES, RESERVOIR, GAUGES, END'
+                                   'MATERIALS, BOUNDARY, LOADS, STAGES, RESERVOIR, GAUGES, '// &
+                                   'INTERFACE, SLAB, END'
     logical, parameter :: group_required(ngroups) = [.false., .false., .true., .true., &
                                                      .true., .true., .false., .false., &
-                                                     .false., .false.]
+                                                     .false., .false., .false., .false.]
     character(len=10), parameter :: load_keywords(3) = [character(len=10) :: 'GRAVITY', &
                                                         'FORCE', 'PRESSURE']
     character(len=10), parameter :: stage_keywords(4) = [character(len=10) :: 'FILL', &
@@ -96,6 +100,27 @@ module cfrd_deck
                                 field_t('DPHI', 11, 10, real_field), &
                                 field_t('C', 21, 10, real_field), &
                                 field_t('SIG3MIN', 31, 10, real_field)]
+    type(field_t), parameter :: goodman_fields(8) = [ &
+                                field_t('KNC', 1, 10, real_field), &
+                                field_t('KNT', 11, 10, real_field), &
+                                field_t('K1', 21, 10, real_field), &
+                                field_t('N1', 31, 10, real_field), &
+                                field_t('RF1', 41, 10, real_field), &
+                                field_t('PHI', 51, 10, real_field), &
+                                field_t('SNMIN', 61, 10, real_field), &
+                                field_t('CUTOFF', 71, 5, int_field)]
+    type(field_t), parameter :: interface_fields(10) = [ &
+                                field_t('LINE', 1, 5, int_field), &
+                                field_t('NB', 6, 5, int_field), &
+                                field_t('NT', 11, 5, int_field), &
+                                field_t('NGEN', 16, 5, int_field), &
+                                field_t('INCB', 21, 5, int_field), &
+                                field_t('INCT', 26, 5, int_field), &
+                                field_t('MAT', 31, 5, int_field), &
+                                field_t('TYPE', 36, 10, text_field), &
+                                field_t('RULE', 46, 10, text_field), &
+                                field_t('GROUP', 56, 10, text_field)]
+    type(field_t), parameter :: slab_fields(1) = [field_t('GROUP', 1, 10, text_field)]
     type(field_t), parameter :: stage_fields(5) = [ &
                                 field_t('KEYWORD', 1, 10, text_field), &
                                 field_t('GROUP', 11, 10, text_field), &
@@ -182,6 +207,7 @@ contains
 
         call read_deck_lines(path, lines, error)
         if (allocated(error)) return
+        allocate (model%warnings(0))
         model%deck_file = path
         model%deck_text = lines%text
         model%title = ''
@@ -195,6 +221,10 @@ contains
         call read_nodes(path, groups(g_nodes), counts, model, node_line, error)
         if (allocated(error)) return
         call read_elements(path, groups(g_elements), counts, model, element_line, error)
+        if (allocated(error)) return
+        call read_interface(path, groups(g_interface), model, element_line, error)
+        if (allocated(error)) return
+        call read_slab(path, groups(g_slab), model, error)
         if (allocated(error)) return
         call read_boundary(path, groups(g_boundary), model, error)
         if (allocated(error)) return
@@ -487,22 +517,35 @@ contains
                 end if
                 call get_text(card, material_fields, 2, law)
                 law = upper(law)
-                if (law /= 'ELASTIC' .and. law /= 'EB') then
+                if (law /= 'ELASTIC' .and. law /= 'EB' .and. law /= 'GOODMAN') then
                     call field_error(error, file, card, material_fields, 2, ctx, &
-                                     'a material law: ELASTIC or EB', law)
+                                     'a material law: ELASTIC, EB or GOODMAN', law)
                     return
                 end if
                 call get_text(card, material_fields, 3, label)
                 n = n + 1
                 number(n) = m
                 first_card(n) = i
-                mats(n)%law = merge(law_elastic, law_duncan_eb, law == 'ELASTIC')
+                select case (law)
+                case ('ELASTIC')
+                    mats(n)%law = law_elastic
+                case ('EB')
+                    mats(n)%law = law_duncan_eb
+                case default
+                    mats(n)%law = law_goodman
+                end select
                 mats(n)%label = label
             end associate
             if (mats(n)%law == law_duncan_eb) then
                 call read_eb_cards(file, group, i, m, model%pa, mats(n), error)
                 if (allocated(error)) return
                 i = i + 3
+                cycle
+            end if
+            if (mats(n)%law == law_goodman) then
+                call read_goodman_card(file, group, i, m, model, mats(n), error)
+                if (allocated(error)) return
+                i = i + 2
                 cycle
             end if
             if (i == group%n) then
@@ -588,46 +631,46 @@ contains
             end if
         end do
         associate (card => group%cards(i + 1))
-            call get_bounded(card, eb_fields, 1, .false., 0.0_dp, 0.0_dp, huge(1.0_dp), &
+            call get_eb_bounded(card, eb_fields, 1, .false., 0.0_dp, 0.0_dp, huge(1.0_dp), &
                              'a real >= 0 (kN/m3)', mat%unit_weight)
             if (allocated(error)) return
-            call get_bounded(card, eb_fields, 2, .true., 0.0_dp, tiny(1.0_dp), huge(1.0_dp), &
+            call get_eb_bounded(card, eb_fields, 2, .true., 0.0_dp, tiny(1.0_dp), huge(1.0_dp), &
                              'a real > 0', mat%k_modulus)
             if (allocated(error)) return
-            call get_bounded(card, eb_fields, 3, .true., 0.0_dp, 0.0_dp, 0.999_dp, &
+            call get_eb_bounded(card, eb_fields, 3, .true., 0.0_dp, 0.0_dp, 0.999_dp, &
                              'a real with 0 <= N < 1', mat%n_exponent)
             if (allocated(error)) return
-            call get_bounded(card, eb_fields, 4, .true., 0.0_dp, tiny(1.0_dp), 1.0_dp, &
+            call get_eb_bounded(card, eb_fields, 4, .true., 0.0_dp, tiny(1.0_dp), 1.0_dp, &
                              'a real with 0 < RF <= 1', mat%failure_ratio)
             if (allocated(error)) return
-            call get_bounded(card, eb_fields, 5, .true., 0.0_dp, tiny(1.0_dp), huge(1.0_dp), &
+            call get_eb_bounded(card, eb_fields, 5, .true., 0.0_dp, tiny(1.0_dp), huge(1.0_dp), &
                              'a real > 0', mat%k_bulk)
             if (allocated(error)) return
-            call get_bounded(card, eb_fields, 6, .true., 0.0_dp, -0.999_dp, 0.999_dp, &
+            call get_eb_bounded(card, eb_fields, 6, .true., 0.0_dp, -0.999_dp, 0.999_dp, &
                              'a real with -1 < M < 1', mat%m_exponent)
             if (allocated(error)) return
             ! Kur blank: 2 K, a common rockfill value (reference file, [choice]).
-            call get_bounded(card, eb_fields, 7, .false., 2.0_dp*mat%k_modulus, tiny(1.0_dp), &
+            call get_eb_bounded(card, eb_fields, 7, .false., 2.0_dp*mat%k_modulus, tiny(1.0_dp), &
                              huge(1.0_dp), 'a real > 0 (blank = 2 K)', mat%k_unload)
             if (allocated(error)) return
         end associate
         associate (card => group%cards(i + 2))
-            call get_bounded(card, eb_strength_fields, 1, .true., 0.0_dp, tiny(1.0_dp), &
+            call get_eb_bounded(card, eb_strength_fields, 1, .true., 0.0_dp, tiny(1.0_dp), &
                              89.0_dp, 'an angle in degrees, 0 < PHI0 < 90', mat%phi0)
             if (allocated(error)) return
-            call get_bounded(card, eb_strength_fields, 2, .false., 0.0_dp, 0.0_dp, 89.0_dp, &
+            call get_eb_bounded(card, eb_strength_fields, 2, .false., 0.0_dp, 0.0_dp, 89.0_dp, &
                              'an angle in degrees >= 0', mat%dphi)
             if (allocated(error)) return
-            call get_bounded(card, eb_strength_fields, 3, .false., 0.0_dp, 0.0_dp, &
+            call get_eb_bounded(card, eb_strength_fields, 3, .false., 0.0_dp, 0.0_dp, &
                              huge(1.0_dp), 'a real >= 0 (kPa)', mat%cohesion)
             if (allocated(error)) return
             ! Floor on sigma3 for the moduli, blank: 0.1 pa (docs/theory.md section 8).
-            call get_bounded(card, eb_strength_fields, 4, .false., 0.1_dp*pa, tiny(1.0_dp), &
+            call get_eb_bounded(card, eb_strength_fields, 4, .false., 0.1_dp*pa, tiny(1.0_dp), &
                              huge(1.0_dp), 'a real > 0 (kPa, blank = 0.1 PA)', mat%sigma3_floor)
         end associate
     contains
         !> Real field k of `card`: required or `default` when blank; must lie in [lo, hi].
-        subroutine get_bounded(card, fields, k, required, default, lo, hi, expected, value)
+        subroutine get_eb_bounded(card, fields, k, required, default, lo, hi, expected, value)
             type(card_t), intent(in) :: card
             type(field_t), intent(in) :: fields(:)
             integer, intent(in) :: k
@@ -643,8 +686,92 @@ contains
                 call field_error(error, file, card, fields, k, ctx, expected, &
                                  raw_text(card, fields, k))
             end if
-        end subroutine get_bounded
+        end subroutine get_eb_bounded
     end subroutine read_eb_cards
+
+    !> The parameter card of a Goodman joint material after its card 1 at group%cards(i).
+    subroutine read_goodman_card(file, group, i, m, model, mat, error)
+        character(len=*), intent(in) :: file
+        type(group_cards_t), intent(in) :: group
+        integer, intent(in) :: i, m
+        type(model_t), intent(in) :: model
+        type(material_t), intent(inout) :: mat
+        type(error_t), allocatable, intent(out) :: error
+        character(len=:), allocatable :: ctx
+        integer :: cutoff
+        ctx = 'MATERIALS '//to_text(m)
+        if (i == group%n) then
+            call card_error(error, file, group%cards(i), ctx//': missing parameter card '// &
+                            '(KNC, KNT, K1, N1, RF1, PHI, SNMIN, CUTOFF) after this card')
+            return
+        end if
+        if (is_material_card(group%cards(i + 1))) then
+            call card_error(error, file, group%cards(i + 1), ctx//': missing parameter '// &
+                            'card (KNC, KNT, K1, N1, RF1, PHI, SNMIN, CUTOFF) before this card')
+            return
+        end if
+        associate (card => group%cards(i + 1))
+            call get_bounded(file, card, goodman_fields, 1, ctx, .true., 0.0_dp, &
+                             tiny(1.0_dp), huge(1.0_dp), 'a real > 0 (kPa/m)', &
+                             mat%kn_compression, error)
+            if (allocated(error)) return
+            call get_bounded(file, card, goodman_fields, 2, ctx, .true., 0.0_dp, &
+                             tiny(1.0_dp), huge(1.0_dp), 'a real > 0 (kPa/m)', &
+                             mat%kn_tension, error)
+            if (allocated(error)) return
+            call get_bounded(file, card, goodman_fields, 3, ctx, .true., 0.0_dp, &
+                             tiny(1.0_dp), huge(1.0_dp), 'a real > 0', mat%k1, error)
+            if (allocated(error)) return
+            call get_bounded(file, card, goodman_fields, 4, ctx, .true., 0.0_dp, 0.0_dp, &
+                             0.999_dp, 'a real with 0 <= N1 < 1', mat%n1, error)
+            if (allocated(error)) return
+            call get_bounded(file, card, goodman_fields, 5, ctx, .true., 0.0_dp, 0.0_dp, &
+                             1.0_dp, 'a real with 0 <= RF1 <= 1', mat%rf1, error)
+            if (allocated(error)) return
+            call get_bounded(file, card, goodman_fields, 6, ctx, .true., 0.0_dp, &
+                             tiny(1.0_dp), 89.0_dp, 'an angle in degrees, 0 < PHI < 90', &
+                             mat%phi, error)
+            if (allocated(error)) return
+            ! Floor on the compressive normal stress in ks, blank: 0.1 pa, as SIG3MIN of EB.
+            call get_bounded(file, card, goodman_fields, 7, ctx, .false., 0.1_dp*model%pa, &
+                             tiny(1.0_dp), huge(1.0_dp), 'a real > 0 (kPa, blank = 0.1 PA)', &
+                             mat%sigma_n_floor, error)
+            if (allocated(error)) return
+            call get_int(file, card, goodman_fields, 8, ctx, 0, cutoff, error)
+            if (allocated(error)) return
+            if (cutoff /= 0 .and. cutoff /= 1) then
+                call field_error(error, file, card, goodman_fields, 8, ctx, &
+                                 '0 (tension carried with KNT) or 1 (tension cut-off)', &
+                                 to_text(cutoff))
+                return
+            end if
+            mat%tension_cutoff = cutoff == 1
+            mat%gamma_w = model%gamma_w
+        end associate
+    end subroutine read_goodman_card
+
+    !> Real field k of `card`: required or `default` when blank; must lie in [lo, hi].
+    subroutine get_bounded(file, card, fields, k, ctx, required, default, lo, hi, expected, &
+                           value, error)
+        character(len=*), intent(in) :: file, ctx
+        type(card_t), intent(in) :: card
+        type(field_t), intent(in) :: fields(:)
+        integer, intent(in) :: k
+        logical, intent(in) :: required
+        real(dp), intent(in) :: default, lo, hi
+        character(len=*), intent(in) :: expected
+        real(dp), intent(out) :: value
+        type(error_t), allocatable, intent(out) :: error
+        logical :: given
+        call get_real(file, card, fields, k, ctx, default, value, error, given)
+        if (allocated(error)) return
+        if (required .and. .not. given) then
+            call field_error(error, file, card, fields, k, ctx, expected, '')
+        else if (.not. (value >= lo .and. value <= hi)) then
+            call field_error(error, file, card, fields, k, ctx, expected, &
+                             raw_text(card, fields, k))
+        end if
+    end subroutine get_bounded
 
     !> A material's first card: its LAW field holds a word.
     logical function is_material_card(card)
@@ -848,6 +975,12 @@ contains
                                      raw_text(card, element_fields, 6))
                     return
                 end if
+                if (model%materials(mat(i))%law == law_goodman) then
+                    call field_error(error, file, card, element_fields, 6, ctx, &
+                                     'a solid material: GOODMAN is the law of joints, '// &
+                                     'given on INTERFACE cards', raw_text(card, element_fields, 6))
+                    return
+                end if
                 call get_text(card, element_fields, 9, name)
                 name = upper(name)
                 grp(i) = 0
@@ -889,6 +1022,352 @@ contains
         call check_numbering(file, group%header_line, 'element', element_line, counts%nelem, &
                              'NELEM', counts%line, error)
     end subroutine read_elements
+
+    !> INTERFACE: lines of node pairs (bottom = cushion side, top = slab side); the elements
+    !> between consecutive pairs of a line, joints or thin-layer quads, are appended to the
+    !> mesh after the ELEMENTS (docs/cards.md).
+    subroutine read_interface(file, group, model, element_line, error)
+        character(len=*), intent(in) :: file
+        type(group_cards_t), intent(in) :: group
+        type(model_t), intent(inout) :: model
+        integer, allocatable, intent(inout) :: element_line(:)
+        type(error_t), allocatable, intent(out) :: error
+        integer, allocatable :: pair_line(:), pair_bottom(:), pair_top(:), pair_card(:), &
+                                card_mat(:), card_kind(:), card_method(:), card_group(:), &
+                                lines(:), new_conn(:, :)
+        character(len=:), allocatable :: ctx, text
+        integer :: i, g, line, nb, nt, ngen, incb, inct, k, np, a, b, nnew, e, nelem0, c
+        real(dp) :: t(2), nrm(2), length, gap, centre(2)
+        allocate (model%interfaces(0))
+        if (.not. group%present) return
+        if (group%n == 0) then
+            call fatal_error(error, file//':'//to_text(group%header_line)//': INTERFACE '// &
+                             'has no node-pair cards', input_error)
+            return
+        end if
+        allocate (pair_line(0), pair_bottom(0), pair_top(0), pair_card(0), lines(0))
+        allocate (card_mat(group%n), card_kind(group%n), card_method(group%n), &
+                  card_group(group%n))
+        do i = 1, group%n
+            associate (card => group%cards(i))
+                call get_int(file, card, interface_fields, 1, 'INTERFACE', 0, line, error)
+                if (allocated(error)) return
+                if (line < 1) then
+                    call field_error(error, file, card, interface_fields, 1, 'INTERFACE', &
+                                     'an interface line number >= 1', &
+                                     raw_text(card, interface_fields, 1))
+                    return
+                end if
+                ctx = 'INTERFACE line '//to_text(line)
+                call get_int(file, card, interface_fields, 4, ctx, 0, ngen, error)
+                if (allocated(error)) return
+                if (ngen < 0) then
+                    call field_error(error, file, card, interface_fields, 4, ctx, &
+                                     'a count >= 0', raw_text(card, interface_fields, 4))
+                    return
+                end if
+                call get_int(file, card, interface_fields, 5, ctx, 1, incb, error)
+                if (allocated(error)) return
+                call get_int(file, card, interface_fields, 6, ctx, 1, inct, error)
+                if (allocated(error)) return
+                do k = 2, 3
+                    call get_int(file, card, interface_fields, k, ctx, 0, nb, error)
+                    if (allocated(error)) return
+                    a = nb
+                    b = nb + ngen*merge(incb, inct, k == 2)
+                    if (min(a, b) < 1 .or. max(a, b) > model%mesh%nnode) then
+                        call field_error(error, file, card, interface_fields, k, ctx, &
+                                         'a node from 1 to '//to_text(model%mesh%nnode)// &
+                                         trim(merge(' for every generated pair', &
+                                                    '                         ', ngen > 0)), &
+                                         raw_text(card, interface_fields, k))
+                        return
+                    end if
+                end do
+                call get_int(file, card, interface_fields, 2, ctx, 0, nb, error)
+                call get_int(file, card, interface_fields, 3, ctx, 0, nt, error)
+                if (nb == nt .or. (ngen > 0 .and. (incb == 0 .or. inct == 0))) then
+                    call card_error(error, file, card, ctx//': the bottom and top nodes of '// &
+                                    'a pair must differ, and INCB, INCT must not be 0')
+                    return
+                end if
+                call get_int(file, card, interface_fields, 7, ctx, 0, card_mat(i), error)
+                if (allocated(error)) return
+                if (card_mat(i) < 1 .or. card_mat(i) > size(model%materials)) then
+                    call field_error(error, file, card, interface_fields, 7, ctx, &
+                                     'a material number from 1 to '// &
+                                     to_text(size(model%materials)), &
+                                     raw_text(card, interface_fields, 7))
+                    return
+                end if
+                call get_text(card, interface_fields, 8, text)
+                text = upper(text)
+                select case (text)
+                case ('JOINT')
+                    card_method(i) = method_joint
+                case ('THIN')
+                    card_method(i) = method_thin
+                case default
+                    call field_error(error, file, card, interface_fields, 8, ctx, &
+                                     'an interface type: JOINT or THIN', text)
+                    return
+                end select
+                if ((model%materials(card_mat(i))%law == law_goodman) .neqv. &
+                    (card_method(i) == method_joint)) then
+                    call field_error(error, file, card, interface_fields, 7, ctx, &
+                                     trim(merge('a GOODMAN material for a JOINT         ', &
+                                                'a solid material (not GOODMAN) for THIN', &
+                                                card_method(i) == method_joint)), &
+                                     raw_text(card, interface_fields, 7))
+                    return
+                end if
+                call get_text(card, interface_fields, 9, text)
+                text = upper(text)
+                card_kind(i) = elem_quad4
+                if (card_method(i) == method_joint) then
+                    select case (text)
+                    case ('', 'LOBATTO', 'NEWTON')
+                        card_kind(i) = elem_joint_lobatto
+                    case ('GAUSS')
+                        card_kind(i) = elem_joint_gauss
+                    case default
+                        call field_error(error, file, card, interface_fields, 9, ctx, &
+                                         'an integration rule: GAUSS or LOBATTO (blank: '// &
+                                         'LOBATTO, the 2-point Newton-Cotes rule)', text)
+                        return
+                    end select
+                else if (len(text) > 0) then
+                    call field_error(error, file, card, interface_fields, 9, ctx, &
+                                     'blank: a THIN layer is a quad with its 2x2 Gauss rule', &
+                                     text)
+                    return
+                end if
+                call get_text(card, interface_fields, 10, text)
+                text = upper(text)
+                card_group(i) = 0
+                if (len(text) > 0) then
+                    card_group(i) = position(model%mesh%group_name, text)
+                    if (card_group(i) == 0) then
+                        model%mesh%group_name = [character(len=10) :: model%mesh%group_name, &
+                                                 text]
+                        card_group(i) = size(model%mesh%group_name)
+                    end if
+                end if
+                do g = 0, ngen
+                    pair_line = [pair_line, line]
+                    pair_bottom = [pair_bottom, nb + g*incb]
+                    pair_top = [pair_top, nt + g*inct]
+                    pair_card = [pair_card, i]
+                end do
+                if (position_int(lines, line) == 0) lines = [lines, line]
+            end associate
+        end do
+        ! Elements between consecutive pairs of each line, lines in order of appearance.
+        nelem0 = model%mesh%nelem
+        allocate (new_conn(4, 0))
+        do k = 1, size(lines)
+            np = 0
+            a = 0
+            do i = 1, size(pair_line)
+                if (pair_line(i) /= lines(k)) cycle
+                np = np + 1
+                if (a > 0) then
+                    c = pair_card(a)
+                    new_conn = reshape([new_conn, pair_bottom(a), pair_bottom(i), pair_top(i), &
+                                        pair_top(a)], [4, size(new_conn, 2) + 1])
+                    model%interfaces = [model%interfaces, interface_element_t( &
+                                        element=nelem0 + size(new_conn, 2), line=lines(k), &
+                                        method=card_method(c))]
+                    model%mesh%kind = [model%mesh%kind, card_kind(c)]
+                    model%mesh%material = [model%mesh%material, card_mat(c)]
+                    model%mesh%group = [model%mesh%group, card_group(c)]
+                    element_line = [element_line, group%cards(c)%line]
+                end if
+                a = i
+            end do
+            if (np < 2) then
+                call card_error(error, file, group%cards(pair_card(a)), 'INTERFACE line '// &
+                                to_text(lines(k))//' has one node pair: a line needs two or '// &
+                                'more (one element between each two consecutive pairs)')
+                return
+            end if
+        end do
+        nnew = size(new_conn, 2)
+        model%mesh%conn = reshape([model%mesh%conn, new_conn], [4, nelem0 + nnew])
+        model%mesh%nelem = nelem0 + nnew
+        ! Geometry: joints of zero thickness, every element with its top side on the left.
+        do k = 1, nnew
+            e = nelem0 + k
+            associate (x => model%mesh%x, conn => model%mesh%conn(:, e))
+                ctx = 'INTERFACE line '//to_text(model%interfaces(k)%line)//', pairs '// &
+                      to_text(conn(1))//'/'//to_text(conn(4))//' and '//to_text(conn(2))// &
+                      '/'//to_text(conn(3))
+                t = x(:, conn(2)) - x(:, conn(1))
+                length = norm2(t)
+                if (length <= 0.0_dp) then
+                    call fatal_error(error, file//':'//to_text(element_line(e))//': '//ctx// &
+                                     ': the two bottom nodes coincide (zero length)', &
+                                     input_error)
+                    return
+                end if
+                t = t/length
+                nrm = [-t(2), t(1)]
+                if (model%interfaces(k)%method == method_joint) then
+                    gap = max(norm2(x(:, conn(4)) - x(:, conn(1))), &
+                              norm2(x(:, conn(3)) - x(:, conn(2))))
+                    if (gap > 1.0e-6_dp*length) then
+                        call fatal_error(error, file//':'//to_text(element_line(e))//': '// &
+                                         ctx//': the nodes of a pair are '// &
+                                         trim(real_text_of(gap))//' m apart; a JOINT has '// &
+                                         'zero thickness (use THIN for a layer)', input_error)
+                        return
+                    end if
+                    ! The top nodes' solid elements must lie on the left (along n).
+                    centre = solid_centre(model%mesh, conn(4), nelem0)
+                    if (norm2(centre) < huge(1.0_dp) .and. &
+                        dot_product(centre - x(:, conn(1)), nrm) < 0.0_dp) then
+                        call fatal_error(error, file//':'//to_text(element_line(e))//': '// &
+                                         ctx//': the top nodes'' elements lie on the right '// &
+                                         'of the line from bottom node '//to_text(conn(1))// &
+                                         ' to '//to_text(conn(2))//'; list the pairs of '// &
+                                         'the line in the opposite order', input_error)
+                        return
+                    end if
+                else if (cross(t, x(:, conn(4)) - x(:, conn(1))) <= 0.0_dp .or. &
+                         cross(t, x(:, conn(3)) - x(:, conn(2))) <= 0.0_dp) then
+                    call fatal_error(error, file//':'//to_text(element_line(e))//': '//ctx// &
+                                     ': the top nodes lie on the right of (or on) the line '// &
+                                     'from bottom node '//to_text(conn(1))//' to '// &
+                                     to_text(conn(2))//'; list the pairs of the line in '// &
+                                     'the opposite order', input_error)
+                    return
+                end if
+            end associate
+        end do
+        call thin_layer_warnings(model)
+    contains
+        pure integer function position_int(list, value)
+            integer, intent(in) :: list(:), value
+            integer :: j
+            position_int = 0
+            do j = 1, size(list)
+                if (list(j) == value) position_int = j
+            end do
+        end function position_int
+
+        pure real(dp) function cross(p, q)
+            real(dp), intent(in) :: p(2), q(2)
+            cross = p(1)*q(2) - p(2)*q(1)
+        end function cross
+
+        function real_text_of(value) result(text)
+            real(dp), intent(in) :: value
+            character(len=16) :: text
+            write (text, '(es10.3)') value
+            text = adjustl(text)
+        end function real_text_of
+
+        !> Centroid of the first solid element (ELEMENTS) that uses `node`, huge if none.
+        pure function solid_centre(mesh, node, nsolid) result(centre)
+            type(mesh_t), intent(in) :: mesh
+            integer, intent(in) :: node, nsolid
+            real(dp) :: centre(2)
+            integer :: j
+            centre = huge(1.0_dp)
+            do j = 1, nsolid
+                if (any(mesh%conn(:, j) == node)) then
+                    centre = sum(mesh%x(:, mesh%conn(:, j)), dim=2)/4.0_dp
+                    return
+                end if
+            end do
+        end function solid_centre
+    end subroutine read_interface
+
+    !> Warn (the run goes on) when a thin layer's thickness / length lies outside 0.01-0.1,
+    !> the range in which thin layers model slip well (Desai et al. 1984; paper section 2.3).
+    subroutine thin_layer_warnings(model)
+        type(model_t), intent(inout) :: model
+        character(len=:), allocatable :: outside
+        real(dp) :: ratio, lo, hi
+        integer :: k, count_out
+        outside = ''
+        count_out = 0
+        lo = huge(1.0_dp)
+        hi = 0.0_dp
+        do k = 1, size(model%interfaces)
+            if (model%interfaces(k)%method /= method_thin) cycle
+            ratio = thin_aspect(model%mesh, model%interfaces(k)%element)
+            if (ratio >= 0.01_dp .and. ratio <= 0.1_dp) cycle
+            count_out = count_out + 1
+            lo = min(lo, ratio)
+            hi = max(hi, ratio)
+            if (count_out <= 20) outside = outside//' '//to_text(model%interfaces(k)%element)
+        end do
+        if (count_out == 0) return
+        if (count_out > 20) outside = outside//' ...'
+        block
+            character(len=300) :: text
+            character(len=24) :: range
+            write (range, '(f0.4,a,f0.4)') lo, ' to ', hi
+            text = to_text(count_out)//' thin-layer element(s) with thickness / length '// &
+                   trim(range)//', outside 0.01-0.1 (Desai et al. 1984): elements'//outside
+            model%warnings = [model%warnings, text]
+        end block
+    end subroutine thin_layer_warnings
+
+    !> Thickness / length of the thin-layer quad e: area over the mean length of its bottom
+    !> (1-2) and top (3-4) faces, over that mean length.
+    pure real(dp) function thin_aspect(mesh, e) result(ratio)
+        type(mesh_t), intent(in) :: mesh
+        integer, intent(in) :: e
+        real(dp) :: p(2, 4), area, length
+        p = mesh%x(:, mesh%conn(:, e))
+        area = 0.5_dp*((p(1, 3) - p(1, 1))*(p(2, 4) - p(2, 2)) - &
+                       (p(1, 4) - p(1, 2))*(p(2, 3) - p(2, 1)))
+        length = 0.5_dp*(norm2(p(:, 2) - p(:, 1)) + norm2(p(:, 3) - p(:, 4)))
+        ratio = area/length**2
+    end function thin_aspect
+
+    !> SLAB: the element groups that form the face slab, whose stresses are tabulated along
+    !> the slab axis.
+    subroutine read_slab(file, group, model, error)
+        character(len=*), intent(in) :: file
+        type(group_cards_t), intent(in) :: group
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        character(len=:), allocatable :: name
+        integer :: i, g
+        allocate (model%slab_groups(0))
+        if (group%present .and. group%n == 0) then
+            call fatal_error(error, file//':'//to_text(group%header_line)//': SLAB has no '// &
+                             'group cards', input_error)
+            return
+        end if
+        do i = 1, group%n
+            associate (card => group%cards(i))
+                call get_text(card, slab_fields, 1, name)
+                g = position(model%mesh%group_name, upper(name))
+                if (g == 0) then
+                    call field_error(error, file, card, slab_fields, 1, 'SLAB', &
+                                     'an element group ('//group_list(model%mesh%group_name)// &
+                                     ')', name)
+                    return
+                end if
+                if (any(model%slab_groups == g)) then
+                    call field_error(error, file, card, slab_fields, 1, 'SLAB', &
+                                     'a group not listed before', name)
+                    return
+                end if
+                if (any(model%mesh%kind == elem_joint_gauss .and. model%mesh%group == g) .or. &
+                    any(model%mesh%kind == elem_joint_lobatto .and. model%mesh%group == g)) then
+                    call field_error(error, file, card, slab_fields, 1, 'SLAB', &
+                                     'a group of solid elements (this one holds joints)', name)
+                    return
+                end if
+                model%slab_groups = [model%slab_groups, g]
+            end associate
+        end do
+    end subroutine read_slab
 
     subroutine read_boundary(file, group, model, error)
         character(len=*), intent(in) :: file
@@ -1141,6 +1620,13 @@ contains
                     return
                 end if
                 ctx = 'RESERVOIR '//to_text(wet%element)
+                if (is_joint_kind(model%mesh%kind(wet%element))) then
+                    call field_error(error, file, card, reservoir_fields, 1, 'RESERVOIR', &
+                                     'a solid element (element '//to_text(wet%element)// &
+                                     ' is a joint, which has no faces to wet)', &
+                                     raw_text(card, reservoir_fields, 1))
+                    return
+                end if
                 call get_int(file, card, reservoir_fields, 2, ctx, 0, wet%face, error)
                 if (allocated(error)) return
                 if (wet%face < 1 .or. wet%face > 4) then
@@ -1242,6 +1728,13 @@ contains
                              raw_text(card, pressure_fields, 2))
             return
         end if
+        if (is_joint_kind(model%mesh%kind(pressure%element))) then
+            call field_error(error, file, card, pressure_fields, 2, 'PRESSURE', &
+                             'a solid element (element '//to_text(pressure%element)// &
+                             ' is a joint, which has no faces to load)', &
+                             raw_text(card, pressure_fields, 2))
+            return
+        end if
         call get_int(file, card, pressure_fields, 3, 'PRESSURE', 0, pressure%face, error)
         if (allocated(error)) return
         if (pressure%face < 1 .or. pressure%face > 4) then
@@ -1294,6 +1787,7 @@ contains
         character(len=:), allocatable :: mode
         integer :: e, status, node, stage, what, item
         do e = 1, model%mesh%nelem
+            if (is_joint_kind(model%mesh%kind(e))) cycle   ! zero thickness, checked by INTERFACE
             status = element_shape(model%mesh, e)
             if (status /= shape_ok) then
                 if (status == shape_degenerate) then

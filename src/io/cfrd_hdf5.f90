@@ -15,6 +15,7 @@ module cfrd_hdf5
     use cfrd_version, only: cfrd_version_string
     use cfrd_model, only: model_t, stage_kind_name, dry_level
     use cfrd_results, only: results_t, stage_result_t
+    use cfrd_interface_io, only: has_interfaces, has_slab
     implicit none
     private
 
@@ -72,6 +73,12 @@ contains
         call dataset_int2(group_id, 'connectivity', model%mesh%conn, st)
         call dataset_int1(group_id, 'material', model%mesh%material, st)
         call dataset_int1(group_id, 'group', model%mesh%group, st)
+        call dataset_int1(group_id, 'kind', model%mesh%kind, st)
+        if (has_interfaces(model)) then
+            call dataset_int1(group_id, 'interface_elements', model%interfaces%element, st)
+            call dataset_int1(group_id, 'interface_lines', model%interfaces%line, st)
+            call dataset_int1(group_id, 'interface_method', model%interfaces%method, st)
+        end if
         if (size(model%mesh%group_name) > 0) then
             call dataset_names(group_id, 'group_names', model%mesh%group_name, st)
         end if
@@ -110,6 +117,11 @@ contains
                                    'xx, yy, zz, xy', st)
                 call dataset_real2(stage_id, 'principal', stage%principal, 'kPa, kPa, deg', &
                                    'sigma1, sigma3, angle of sigma1 from x', st)
+                if (allocated(stage%strain_gauss)) &
+                    call dataset_real3(stage_id, 'strain_gauss', stage%strain_gauss, '-, m', &
+                                       'xx, yy, zz, xy since placement (joints: du_n, du_s '// &
+                                       'in m)', st)
+                call write_interface_stage(stage_id, model, stage, st)
                 call attr_real(stage_id, 'applied_load', stage%applied_load, st)
                 call attr_real(stage_id, 'reaction_sum', stage%reaction_sum, st)
                 call open_group(stage_id, 'solver', solver_id, st)
@@ -146,6 +158,59 @@ contains
         if (.not. st%ok) call fatal_error(error, 'cannot write the results file '//path// &
                                           ': HDF5 failed at '//st%failed, io_error)
     end subroutine write_results_h5
+
+    !> The stage's interface stations, openings per slab phase and slab stresses.
+    subroutine write_interface_stage(stage_id, model, stage, st)
+        integer(hid_t), intent(in) :: stage_id
+        type(model_t), intent(in) :: model
+        type(stage_result_t), intent(in) :: stage
+        type(h5_state_t), intent(inout) :: st
+        integer(hid_t) :: id
+        integer :: n
+        if (has_interfaces(model)) then
+            call open_group(stage_id, 'interface', id, st)
+            associate (r => stage%interface)
+                call dataset_real2(id, 'x', r%x, 'm', 'station 1, 2 of each interface element', st)
+                call dataset_real2(id, 'y', r%y, 'm', 'station 1, 2', st)
+                call dataset_real2(id, 's', r%s, 'm', 'distance along the line', st)
+                call dataset_real2(id, 'sigma_n', r%sigma_n, 'kPa', 'normal stress, tension +', st)
+                call dataset_real2(id, 'tau', r%tau, 'kPa', 'shear stress along t', st)
+                call dataset_real2(id, 'du_n', r%du_n, 'm', 'relative normal displacement, opening +', &
+                                   st)
+                call dataset_real2(id, 'du_s', r%du_s, 'm', 'relative tangential displacement', st)
+                call dataset_int1(id, 'active', merge(1, 0, r%active), st)
+            end associate
+            n = size(stage%openings)
+            if (n > 0) then
+                call dataset_int1(id, 'opening_line', stage%openings%line, st)
+                call dataset_int1(id, 'opening_group', stage%openings%group, st)
+                call dataset_real1(id, 'opening_width', stage%openings%width, 'm', &
+                                   'largest relative normal displacement of the phase', st)
+                call dataset_real1(id, 'opening_depth', stage%openings%depth, 'm', &
+                                   'down-slope length of the tensile zone from the top', st)
+            end if
+            call close_group(id, st)
+        end if
+        if (has_slab(model)) then
+            call open_group(stage_id, 'slab', id, st)
+            associate (r => stage%slab)
+                call dataset_int1(id, 'element', r%element, st)
+                call dataset_real2(id, 'x', r%x, 'm', 'Gauss points', st)
+                call dataset_real2(id, 'y', r%y, 'm', 'Gauss points', st)
+                call dataset_real2(id, 's', r%s, 'm', 'along the slab axis', st)
+                call dataset_real2(id, 'sigma_t', r%sigma_t, 'kPa', 'normal stress along the axis', &
+                                   st)
+                call dataset_real2(id, 'tau', r%tau, 'kPa', 'shear stress', st)
+                call dataset_real1(id, 'section_s', r%section_s, 'm', 'section centre', st)
+                call dataset_real1(id, 'thickness', r%thickness, 'm', 'section thickness', st)
+                call dataset_real1(id, 'axial', r%axial, 'kN/m', 'N, tension +', st)
+                call dataset_real1(id, 'shear', r%shear, 'kN/m', 'V', st)
+                call dataset_real1(id, 'moment', r%moment, 'kN m/m', &
+                                   'M, tension on the water side +', st)
+            end associate
+            call close_group(id, st)
+        end if
+    end subroutine write_interface_stage
 
     subroutine fail(st, what)
         type(h5_state_t), intent(inout) :: st

@@ -6,8 +6,11 @@ module cfrd_listing
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, io_error
     use cfrd_version, only: cfrd_version_string
-    use cfrd_model, only: model_t, law_name, dry_level
+    use cfrd_model, only: model_t, law_name, dry_level, law_goodman, is_joint_kind
     use cfrd_results, only: results_t, stage_result_t
+    use cfrd_columns, only: csv_real, date_of, level_of
+    use cfrd_interface_io, only: write_opening_history, write_interface_tables, &
+                                 write_opening_summary
     implicit none
     private
 
@@ -36,6 +39,7 @@ contains
         call write_model_summary(unit, model)
         call write_stage_table(unit, model, results)
         call write_gauge_tables(unit, model, results)
+        call write_opening_history(unit, model, results)
         ! The full tables of the last stage; every stage's state is in the HDF5 file.
         s = size(results%stages)
         call write_stage(unit, model, results%stages(s), s)
@@ -101,8 +105,21 @@ contains
             associate (mat => model%materials(m))
                 write (unit, '(i6,1x,a10,es18.6,f10.4,f16.4,2x,a)') m, law_name(mat%law), &
                     mat%youngs_modulus, mat%poisson_ratio, mat%unit_weight, mat%label
+                if (mat%law == law_goodman) write (unit, '(8x,a,2es11.3,a,f8.1,a,f6.3,a,f6.3,a,'// &
+                    'f6.2,a,es10.3,a,a)') 'kn compression / tension', mat%kn_compression, &
+                    mat%kn_tension, ' kPa/m, k1', mat%k1, ', n1', mat%n1, ', Rf1', mat%rf1, &
+                    ', phi', mat%phi, ' deg, sigma_n floor', mat%sigma_n_floor, ' kPa, tension', &
+                    trim(merge(' cut off        ', ' carried with kn', mat%tension_cutoff))
             end associate
         end do
+        if (allocated(model%warnings)) then
+            if (size(model%warnings) > 0) then
+                write (unit, '(/,a)') ' WARNINGS'
+                do m = 1, size(model%warnings)
+                    write (unit, '(3x,a)') trim(model%warnings(m))
+                end do
+            end if
+        end if
     end subroutine write_model_summary
 
     !> One line per stage: what it did, how the solution went, the extreme displacements.
@@ -209,36 +226,6 @@ contains
                                         ': '//trim(msg), io_error)
     end subroutine write_gauge_csv
 
-    !> A real for CSV: 10 significant digits, no blanks, no negative zero.
-    function csv_real(x) result(text)
-        real(dp), intent(in) :: x
-        character(len=:), allocatable :: text
-        character(len=24) :: buffer
-        write (buffer, '(es17.9e3)') x + 0.0_dp
-        text = trim(adjustl(buffer))
-    end function csv_real
-
-    !> The stage's date in 10 columns ('-' when it has none).
-    function date_of(stage) result(text)
-        type(stage_result_t), intent(in) :: stage
-        character(len=10) :: text
-        text = '-'
-        if (allocated(stage%date)) then
-            if (len(stage%date) > 0) text = stage%date
-        end if
-    end function date_of
-
-    !> The reservoir level in 10 columns ('empty' before the first WATER stage).
-    function level_of(stage) result(text)
-        type(stage_result_t), intent(in) :: stage
-        character(len=10) :: text
-        if (stage%water_level == dry_level) then
-            text = '     empty'
-        else
-            write (text, '(f10.2)') stage%water_level
-        end if
-    end function level_of
-
     subroutine write_stage(unit, model, stage, number)
         integer, intent(in) :: unit, number
         type(model_t), intent(in) :: model
@@ -259,9 +246,12 @@ contains
             '   ELEM MAT          SXX          SYY          SZZ          SXY       SIGMA1'// &
             '       SIGMA3   ANGLE'
         do e = 1, model%mesh%nelem
+            ! Joints carry tractions, not stresses: they are in the INTERFACE table.
+            if (is_joint_kind(model%mesh%kind(e))) cycle
             write (unit, '(i7,i4,6es13.4,f8.2)') e, model%mesh%material(e), &
                 stage%stress_centroid(:, e), stage%principal(1:2, e), stage%principal(3, e)
         end do
+        call write_interface_tables(unit, model, stage)
         write (unit, '(/,a,/,a)') ' REACTIONS (kN/m)', &
             '   NODE             RX             RY'
         do node = 1, model%mesh%nnode
@@ -346,6 +336,7 @@ contains
                     end do
                 end if
             end if
+            call write_opening_summary(unit, model, results)
             write (unit, '(a,f10.4,a,f8.4,a,f8.4,a,i0,a,i0,a)') '  time', results%wall_time, &
                 ' s (assembly', sum(results%stages%stats%t_assembly), ' s, factorisation', &
                 sum(results%stages%stats%t_symbolic + results%stages%stats%t_numeric), &

@@ -177,6 +177,8 @@ module cfrd_model
         !> INTERFACE cards: the interface elements in line order
         type(interface_element_t), allocatable :: interfaces(:)
         integer, allocatable :: slab_groups(:)          !! SLAB cards: element groups
+        !> Warnings of the deck reader (the run goes on; printed and listed)
+        character(len=300), allocatable :: warnings(:)
         integer :: newtop = newtop_zero
         integer :: solver = solver_midpoint
         real(dp) :: tolerance = 1.0e-6_dp     !! Newton: residual / load, SOLVER = 3

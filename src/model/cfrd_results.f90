@@ -6,6 +6,7 @@ module cfrd_results
     private
 
     public :: stage_result_t, results_t, solver_stats_t
+    public :: interface_result_t, opening_t, slab_result_t
 
     !> Figures of the linear solves, for the listing and the benchmark.
     type :: solver_stats_t
@@ -18,6 +19,54 @@ module cfrd_results
         real(dp) :: t_solve = 0.0_dp       !! s, triangular solves
         real(dp) :: rcond = 0.0_dp         !! UMFPACK's reciprocal condition estimate
     end type solver_stats_t
+
+    !> Along the interface elements (model%interfaces, same order), two stations each (the
+    !> joint's integration points; a thin layer's Gauss-point pairs across its thickness),
+    !> in the element's frame (n from the cushion to the slab, t along the bottom face).
+    type :: interface_result_t
+        real(dp), allocatable :: x(:, :), y(:, :)     !! (2, ninterface) m
+        real(dp), allocatable :: s(:, :)              !! (2, ninterface) m along the line
+        real(dp), allocatable :: sigma_n(:, :)        !! (2, ninterface) kPa, tension +
+        real(dp), allocatable :: tau(:, :)            !! (2, ninterface) kPa
+        real(dp), allocatable :: du_n(:, :)           !! (2, ninterface) m, opening +
+        real(dp), allocatable :: du_s(:, :)           !! (2, ninterface) m, slip along t
+        logical, allocatable :: active(:)             !! (ninterface)
+    end type interface_result_t
+
+    !> The opening of one slab phase (the interface elements of one group on one line):
+    !> width = largest relative normal displacement, depth = down-slope length of the
+    !> tensile (open) zone from the phase's top (docs/theory.md section 13).
+    type :: opening_t
+        integer :: line = 0
+        integer :: group = 0                 !! index into mesh%group_name, 0 = none
+        real(dp) :: width = 0.0_dp           !! m
+        real(dp) :: depth = 0.0_dp           !! m
+        real(dp) :: length = 0.0_dp          !! m, length of the phase's interface
+        real(dp) :: top(2) = 0.0_dp          !! m, top end of the phase's interface
+        real(dp) :: max_compression = 0.0_dp !! kPa, most compressive sigma_n (<= 0)
+        real(dp) :: max_tension = 0.0_dp     !! kPa, largest tensile sigma_n (>= 0)
+    end type opening_t
+
+    !> Stresses of the slab elements (SLAB groups) along the slab axis: at the Gauss points
+    !> (normal stress along the element's long axis t and shear), and section resultants
+    !> per column of elements across the slab (per m of dam length).
+    type :: slab_result_t
+        integer, allocatable :: element(:)            !! (nslab)
+        real(dp), allocatable :: x(:, :), y(:, :)     !! (4, nslab) Gauss points, m
+        real(dp), allocatable :: s(:, :)              !! (4, nslab) m along the slab axis
+        real(dp), allocatable :: sigma_t(:, :)        !! (4, nslab) kPa, along the axis
+        real(dp), allocatable :: tau(:, :)            !! (4, nslab) kPa
+        logical, allocatable :: active(:)             !! (nslab)
+        real(dp), allocatable :: section_s(:)         !! (nsection) m, centre along the axis
+        real(dp), allocatable :: section_x(:), section_y(:)   !! (nsection) m
+        real(dp), allocatable :: thickness(:)         !! (nsection) m
+        real(dp), allocatable :: axial(:)             !! (nsection) N, kN/m, tension +
+        real(dp), allocatable :: shear(:)             !! (nsection) V, kN/m
+        real(dp), allocatable :: moment(:)            !! (nsection) M, kN m/m, tension on the water side +
+        real(dp), allocatable :: sigma_water(:)       !! (nsection) N/h + 6M/h^2, kPa
+        real(dp), allocatable :: sigma_cushion(:)     !! (nsection) N/h - 6M/h^2, kPa
+        logical, allocatable :: section_active(:)     !! (nsection) all its elements active
+    end type slab_result_t
 
     !> The state at the end of one stage.
     type :: stage_result_t
@@ -47,6 +96,9 @@ module cfrd_results
         real(dp), allocatable :: strain_gauss(:, :, :)
         real(dp), allocatable :: stress_centroid(:, :) !! (4, nelem) kPa
         real(dp), allocatable :: principal(:, :)      !! (3, nelem): sigma1, sigma3 (kPa), angle (deg)
+        type(interface_result_t) :: interface        !! along the interface elements
+        type(opening_t), allocatable :: openings(:)   !! per line and slab phase
+        type(slab_result_t) :: slab                   !! along the face slab
         real(dp) :: applied_load(2) = 0.0_dp          !! sum of applied forces, kN/m
         real(dp) :: reaction_sum(2) = 0.0_dp          !! sum of reactions, kN/m
         type(solver_stats_t) :: stats

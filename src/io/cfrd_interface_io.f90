@@ -1,0 +1,274 @@
+!> Interface and slab results in words and tables (docs/results.md): the listing's opening
+!> history, interface and slab tables, and the CSV files DECK-interface.csv (every station
+!> at every stage), DECK-openings.csv (width and depth per slab phase and stage) and
+!> DECK-slab.csv (section resultants per stage). Writers format; they compute nothing.
+module cfrd_interface_io
+    use cfrd_kinds, only: dp
+    use cfrd_error, only: error_t, fatal_error, io_error
+    use cfrd_model, only: model_t, dry_level, method_name
+    use cfrd_results, only: results_t, stage_result_t, opening_t
+    use cfrd_columns, only: csv_real, date_of, level_of
+    implicit none
+    private
+
+    public :: write_opening_history, write_interface_tables, write_interface_csv
+    public :: write_opening_summary, has_interfaces, has_slab, phase_name
+
+contains
+
+    pure logical function has_interfaces(model)
+        type(model_t), intent(in) :: model
+        has_interfaces = .false.
+        if (allocated(model%interfaces)) has_interfaces = size(model%interfaces) > 0
+    end function has_interfaces
+
+    pure logical function has_slab(model)
+        type(model_t), intent(in) :: model
+        has_slab = .false.
+        if (allocated(model%slab_groups)) has_slab = size(model%slab_groups) > 0
+    end function has_slab
+
+    !> 'line L, GROUP' naming a slab phase's interface.
+    function phase_name(model, op) result(text)
+        type(model_t), intent(in) :: model
+        type(opening_t), intent(in) :: op
+        character(len=:), allocatable :: text
+        character(len=12) :: number
+        write (number, '(i0)') op%line
+        text = 'line '//trim(number)//', '
+        if (op%group > 0) then
+            text = text//trim(model%mesh%group_name(op%group))
+        else
+            text = text//'(no group)'
+        end if
+    end function phase_name
+
+    !> Per stage and slab phase: opening width and depth, extreme normal stresses.
+    subroutine write_opening_history(unit, model, results)
+        integer, intent(in) :: unit
+        type(model_t), intent(in) :: model
+        type(results_t), intent(in) :: results
+        integer :: s, k
+        if (.not. has_interfaces(model)) return
+        write (unit, '(/,a,/,a,/,a)') repeat('-', 100), ' INTERFACE OPENINGS PER SLAB PHASE '// &
+            '(width: largest relative normal displacement; depth: down-slope length of the '// &
+            'tensile zone from the phase''s top)', repeat('-', 100)
+        write (unit, '(a)') '  STAGE DATE       WATER (m) PHASE                    WIDTH (m)'// &
+            '  DEPTH (m) LENGTH (m)  MIN SIGN (kPa)  MAX SIGN (kPa)'
+        do s = 1, size(results%stages)
+            associate (st => results%stages(s))
+                do k = 1, size(st%openings)
+                    associate (op => st%openings(k))
+                        write (unit, '(i7,1x,a10,a10,1x,a24,3f11.4,2es16.5)') s, date_of(st), &
+                            level_of(st), phase_name(model, op), op%width, op%depth, &
+                            op%length, op%max_compression, op%max_tension
+                    end associate
+                end do
+            end associate
+        end do
+    end subroutine write_opening_history
+
+    !> The largest opening width and depth of each slab phase over all stages, for the
+    !> terminal summary (the paper's Table 5 quantities).
+    subroutine write_opening_summary(unit, model, results)
+        integer, intent(in) :: unit
+        type(model_t), intent(in) :: model
+        type(results_t), intent(in) :: results
+        integer :: s, k, j, nphase
+        integer, allocatable :: lines(:), groups(:), s_width(:), s_depth(:)
+        real(dp), allocatable :: width(:), depth(:)
+        if (.not. has_interfaces(model)) return
+        allocate (lines(0), groups(0), s_width(0), s_depth(0), width(0), depth(0))
+        do s = 1, size(results%stages)
+            do k = 1, size(results%stages(s)%openings)
+                associate (op => results%stages(s)%openings(k))
+                    j = 0
+                    do nphase = 1, size(lines)
+                        if (lines(nphase) == op%line .and. groups(nphase) == op%group) j = nphase
+                    end do
+                    if (j == 0) then
+                        lines = [lines, op%line]
+                        groups = [groups, op%group]
+                        width = [width, -1.0_dp]
+                        depth = [depth, -1.0_dp]
+                        s_width = [s_width, 0]
+                        s_depth = [s_depth, 0]
+                        j = size(lines)
+                    end if
+                    if (op%width > width(j)) then
+                        width(j) = op%width
+                        s_width(j) = s
+                    end if
+                    if (op%depth > depth(j)) then
+                        depth(j) = op%depth
+                        s_depth(j) = s
+                    end if
+                end associate
+            end do
+        end do
+        write (unit, '(a)') '  interface openings, largest over the stages (width m at '// &
+            'stage / date; depth m at stage / date)'
+        do j = 1, size(lines)
+            write (unit, '(4x,a24,f9.4,i6,1x,a10,f9.3,i6,1x,a10)') &
+                phase_name(model, opening_t(line=lines(j), group=groups(j))), width(j), &
+                s_width(j), date_of(results%stages(s_width(j))), depth(j), s_depth(j), &
+                date_of(results%stages(s_depth(j)))
+        end do
+    end subroutine write_opening_summary
+
+    !> The interface stations and the slab sections of one stage.
+    subroutine write_interface_tables(unit, model, stage)
+        integer, intent(in) :: unit
+        type(model_t), intent(in) :: model
+        type(stage_result_t), intent(in) :: stage
+        integer :: k, j
+        if (has_interfaces(model)) then
+            write (unit, '(/,a,/,a)') ' INTERFACE (n from the cushion to the slab; SIGN: '// &
+                'normal stress, tension +; DUN: opening +; DUS: slip along the line)', &
+                '   ELEM LINE TYPE  PT          X (m)          Y (m)          S (m)'// &
+                '    SIGN (kPa)     TAU (kPa)       DUN (m)       DUS (m)'
+            do k = 1, size(model%interfaces)
+                if (.not. stage%interface%active(k)) cycle
+                do j = 1, 2
+                    write (unit, '(i7,i5,1x,a5,i4,3f15.4,4es14.5)') &
+                        model%interfaces(k)%element, model%interfaces(k)%line, &
+                        method_name(model%interfaces(k)%method), j, &
+                        stage%interface%x(j, k), stage%interface%y(j, k), &
+                        stage%interface%s(j, k), stage%interface%sigma_n(j, k), &
+                        stage%interface%tau(j, k), stage%interface%du_n(j, k), &
+                        stage%interface%du_s(j, k)
+                end do
+            end do
+        end if
+        if (has_slab(model)) then
+            write (unit, '(/,a,/,a,/,a)') ' SLAB SECTIONS (per m of dam; along the slab axis '// &
+                'S from its lowest element; N tension +; M + = tension on the water side)', &
+                '   SECT          S (m)          X (m)          Y (m)      H (m)'// &
+                '     N (kN/m)     V (kN/m)   M (kNm/m) SIG WATER (kPa) SIG CUSHION (kPa)'
+            do k = 1, size(stage%slab%section_s)
+                if (.not. stage%slab%section_active(k)) cycle
+                write (unit, '(i7,3f15.4,f11.4,3es13.4,2es16.5)') k, stage%slab%section_s(k), &
+                    stage%slab%section_x(k), stage%slab%section_y(k), stage%slab%thickness(k), &
+                    stage%slab%axial(k), stage%slab%shear(k), stage%slab%moment(k), &
+                    stage%slab%sigma_water(k), stage%slab%sigma_cushion(k)
+            end do
+        end if
+    end subroutine write_interface_tables
+
+    !> DECK-interface.csv, DECK-openings.csv and DECK-slab.csv at `stem` (each only when
+    !> the deck has interfaces or a slab); `suffix` is appended to each name (e.g. '.part').
+    subroutine write_interface_csv(stem, suffix, model, results, error)
+        character(len=*), intent(in) :: stem, suffix
+        type(model_t), intent(in) :: model
+        type(results_t), intent(in) :: results
+        type(error_t), allocatable, intent(out) :: error
+        integer :: unit, stat, s, k, j
+        character(len=256) :: msg
+        character(len=:), allocatable :: path
+        if (has_interfaces(model)) then
+            path = stem//'-interface.csv'//suffix
+            open (newunit=unit, file=path, status='replace', action='write', iostat=stat, &
+                  iomsg=msg)
+            if (stat /= 0) goto 90
+            write (unit, '(a)') 'stage,label,date,water_level_m,element,line,type,group,'// &
+                'point,x_m,y_m,s_m,sigma_n_kPa,tau_kPa,du_n_m,du_s_m'
+            do s = 1, size(results%stages)
+                associate (st => results%stages(s))
+                    do k = 1, size(model%interfaces)
+                        if (.not. st%interface%active(k)) cycle
+                        do j = 1, 2
+                            write (unit, '(a)', iostat=stat, iomsg=msg) stage_columns(st, s)// &
+                                ','//int_text(model%interfaces(k)%element)//','// &
+                                int_text(model%interfaces(k)%line)//','// &
+                                method_name(model%interfaces(k)%method)//','// &
+                                group_text(model, model%mesh%group( &
+                                           model%interfaces(k)%element))//','//int_text(j)// &
+                                ','//csv_real(st%interface%x(j, k))//','// &
+                                csv_real(st%interface%y(j, k))//','// &
+                                csv_real(st%interface%s(j, k))//','// &
+                                csv_real(st%interface%sigma_n(j, k))//','// &
+                                csv_real(st%interface%tau(j, k))//','// &
+                                csv_real(st%interface%du_n(j, k))//','// &
+                                csv_real(st%interface%du_s(j, k))
+                        end do
+                    end do
+                end associate
+            end do
+            close (unit)
+            if (stat /= 0) goto 90
+            path = stem//'-openings.csv'//suffix
+            open (newunit=unit, file=path, status='replace', action='write', iostat=stat, &
+                  iomsg=msg)
+            if (stat /= 0) goto 90
+            write (unit, '(a)') 'stage,label,date,water_level_m,line,group,width_m,depth_m,'// &
+                'length_m,top_x_m,top_y_m,min_sigma_n_kPa,max_sigma_n_kPa'
+            do s = 1, size(results%stages)
+                associate (st => results%stages(s))
+                    do k = 1, size(st%openings)
+                        associate (op => st%openings(k))
+                            write (unit, '(a)', iostat=stat, iomsg=msg) stage_columns(st, s)// &
+                                ','//int_text(op%line)//','//group_text(model, op%group)// &
+                                ','//csv_real(op%width)//','//csv_real(op%depth)//','// &
+                                csv_real(op%length)//','//csv_real(op%top(1))//','// &
+                                csv_real(op%top(2))//','//csv_real(op%max_compression)// &
+                                ','//csv_real(op%max_tension)
+                        end associate
+                    end do
+                end associate
+            end do
+            close (unit)
+            if (stat /= 0) goto 90
+        end if
+        if (has_slab(model)) then
+            path = stem//'-slab.csv'//suffix
+            open (newunit=unit, file=path, status='replace', action='write', iostat=stat, &
+                  iomsg=msg)
+            if (stat /= 0) goto 90
+            write (unit, '(a)') 'stage,label,date,water_level_m,section,s_m,x_m,y_m,'// &
+                'thickness_m,N_kN_per_m,V_kN_per_m,M_kNm_per_m,sigma_water_side_kPa,'// &
+                'sigma_cushion_side_kPa'
+            do s = 1, size(results%stages)
+                associate (st => results%stages(s), sl => results%stages(s)%slab)
+                    do k = 1, size(sl%section_s)
+                        if (.not. sl%section_active(k)) cycle
+                        write (unit, '(a)', iostat=stat, iomsg=msg) stage_columns(st, s)// &
+                            ','//int_text(k)//','//csv_real(sl%section_s(k))//','// &
+                            csv_real(sl%section_x(k))//','//csv_real(sl%section_y(k))//','// &
+                            csv_real(sl%thickness(k))//','//csv_real(sl%axial(k))//','// &
+                            csv_real(sl%shear(k))//','//csv_real(sl%moment(k))//','// &
+                            csv_real(sl%sigma_water(k))//','//csv_real(sl%sigma_cushion(k))
+                    end do
+                end associate
+            end do
+            close (unit)
+            if (stat /= 0) goto 90
+        end if
+        return
+90      call fatal_error(error, 'cannot write '//path//': '//trim(msg), io_error)
+    end subroutine write_interface_csv
+
+    !> stage,"label",date,water_level columns of a CSV row.
+    function stage_columns(st, s) result(text)
+        type(stage_result_t), intent(in) :: st
+        integer, intent(in) :: s
+        character(len=:), allocatable :: text
+        text = int_text(s)//',"'//st%name//'",'//trim(adjustl(date_of(st)))//','
+        if (st%water_level /= dry_level) text = text//trim(adjustl(level_of(st)))
+    end function stage_columns
+
+    function group_text(model, group) result(text)
+        type(model_t), intent(in) :: model
+        integer, intent(in) :: group
+        character(len=:), allocatable :: text
+        text = ''
+        if (group > 0) text = trim(model%mesh%group_name(group))
+    end function group_text
+
+    function int_text(i) result(text)
+        integer, intent(in) :: i
+        character(len=:), allocatable :: text
+        character(len=12) :: buffer
+        write (buffer, '(i0)') i
+        text = trim(buffer)
+    end function int_text
+end module cfrd_interface_io
