@@ -11,6 +11,7 @@ program cfrd_tests
     use test_analysis_rockfill, only: collect_analysis_rockfill
     use test_materials_eb, only: collect_materials_eb
     use test_analysis_water, only: collect_analysis_water
+    use test_analysis_interface, only: collect_analysis_interface
     implicit none
     character(len=64) :: only_suite, only_test
     type(unittest_t), allocatable :: tests(:)
@@ -50,6 +51,10 @@ program cfrd_tests
     if (wanted('analysis_water')) then
         call collect_analysis_water(tests)
         call run_suite('analysis_water', tests, only_test, npass, nfail)
+    end if
+    if (wanted('analysis_interface')) then
+        call collect_analysis_interface(tests)
+        call run_suite('analysis_interface', tests, only_test, npass, nfail)
     end if
     if (wanted('io_results')) then
         call collect_io_results(tests)

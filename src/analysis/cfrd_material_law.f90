@@ -55,13 +55,14 @@ contains
         type(material_t), intent(in) :: mat
         real(dp), intent(in) :: pa, stress(4), strain(4), history(nhistory)
         real(dp), intent(out) :: d(4, 4)
+        real(dp) :: d2(2, 2)
         select case (mat%law)
         case (law_duncan_eb)
             call eb_tangent(eb_parameters(mat, pa), stress, history(1), d)
         case (law_goodman)
             d = 0.0_dp
-            call goodman_tangent(goodman_parameters(mat, pa), stress(1:2), strain(1), &
-                                 d(1:2, 1:2))
+            call goodman_tangent(goodman_parameters(mat, pa), stress(1:2), strain(1), d2)
+            d(1:2, 1:2) = d2
         case default
             d = elastic_dmatrix(mat%youngs_modulus, mat%poisson_ratio)
         end select
@@ -95,8 +96,8 @@ contains
     !> d stress_new / d de of the midpoint update: the tangent that makes Newton's
     !> iterations converge fast on the E-B law, whose tangent changes along an increment,
     !> by forward differences (step sqrt(eps) of the increment); not symmetric in general.
-    !> The Goodman law returns its tangent at the half-way state instead, whose floors keep
-    !> the matrix regular where a joint slips or opens.
+    !> The Goodman law, whose update is exact, returns its tangent at the end state, whose
+    !> floors keep the matrix regular where a joint slips or opens.
     pure subroutine material_update_tangent(mat, pa, stress, strain, history, de, c)
         type(material_t), intent(in) :: mat
         real(dp), intent(in) :: pa, stress(4), strain(4), history(nhistory), de(4)
@@ -105,7 +106,7 @@ contains
         integer :: j
         call material_update(mat, pa, stress, strain, history, de, .true., base, mid)
         if (mat%law == law_goodman) then
-            call material_tangent(mat, pa, mid, strain + 0.5_dp*de, history, c)
+            call material_tangent(mat, pa, base, strain + de, history, c)
             return
         end if
         h = 1.5e-8_dp*max(maxval(abs(de)), 1.0e-9_dp)

@@ -7,11 +7,19 @@
 !>   open; with the tension cut-off an open joint carries sigma_n = 0 (and tau = 0). The
 !>   normal response depends on the total du_n only, so a joint that opens and closes
 !>   again comes back to the same stress.
-!> - Shear: incremental, d tau = ks d du_s with ks of eq. (7),
-!>   ks = k1 gamma_w (p/pa)^n1 (1 - Rf1 |tau| / (p tan phi))^2, p floored at sigma_n_floor;
-!>   the shear stress is then capped at the Coulomb limit |tau| <= max(p, 0) tan phi.
+!> - Shear: d tau = ks d du_s with ks of eq. (7),
+!>   ks = k1 gamma_w (p/pa)^n1 (1 - Rf1 |tau| / (p tan phi))^2, p floored at sigma_n_floor,
+!>   integrated exactly over an increment at the increment's mid normal stress: with
+!>   g = 1 - Rf1 |tau| / tau_f the law is dg/ds = -ks_i Rf1/tau_f g^2, so
+!>   g1 = g0 / (1 + ks_i Rf1/tau_f |d du_s| g0) (the Clough-Duncan hyperbola, whatever the
+!>   increment's size). A slip against the shear stress unloads with the initial ks_i
+!>   until tau passes zero. The shear stress is then capped at the Coulomb limit
+!>   |tau| <= max(p, 0) tan phi: with Rf1 = 1 the hyperbola approaches it, with Rf1 < 1 it
+!>   reaches it at a finite slip and stays there.
 !> - Tangent floors (only for a regular stiffness matrix; the stresses do not use them):
 !>   the hyperbolic factor at ks_residual, and an open joint's ks at kn_t.
+!> The tangent handed to Newton's iterations is eq. (6) at the end of the increment, the
+!> derivative of the exact shear integration (floors aside).
 module cfrd_goodman
     use cfrd_kinds, only: dp
     implicit none
@@ -82,21 +90,49 @@ contains
         d(2, 2) = goodman_shear_stiffness(p, s(1), s(2), un)
     end subroutine goodman_tangent
 
+    !> Shear stress after the slip ds from tau0 at compressive normal stress pn (eq. 7
+    !> integrated exactly at constant pn; a slip against tau0 unloads with ks_i first).
+    pure recursive function hyperbolic_shear(p, tau0, ds, pn) result(tau)
+        type(goodman_params_t), intent(in) :: p
+        real(dp), intent(in) :: tau0, ds, pn
+        real(dp) :: tau, pf, ks_i, b, g0, g, t
+        tau = tau0
+        if (ds == 0.0_dp) return
+        pf = max(pn, p%sigma_n_floor)
+        ks_i = p%k1*p%gamma_w*(pf/p%pa)**p%n1
+        if (tau0*ds < 0.0_dp) then
+            tau = tau0 + ks_i*ds
+            if (tau*tau0 >= 0.0_dp) return
+            tau = hyperbolic_shear(p, 0.0_dp, tau/ks_i, pn)
+            return
+        end if
+        b = p%rf1/(pf*tan(p%phi*deg))
+        t = abs(tau0)
+        if (b == 0.0_dp) then
+            t = t + ks_i*abs(ds)
+        else
+            g0 = 1.0_dp - b*t
+            if (g0 <= 0.0_dp) return
+            g = g0/(1.0_dp + ks_i*b*abs(ds)*g0)
+            t = (1.0_dp - g)/b
+        end if
+        tau = sign(t, ds)
+    end function hyperbolic_shear
+
     !> Tractions after the relative displacement increment de = (d du_n, d du_s) from s at
-    !> total normal relative displacement un: normal exact, shear by the midpoint (or, with
-    !> midpoint false, forward Euler) rule, then the Coulomb cap. s_mid: half-way tractions.
+    !> total normal relative displacement un: normal exact, shear along the hyperbola at the
+    !> increment's mid normal stress, then the Coulomb cap. s_mid: the tractions half-way.
+    !> (`midpoint` is part of the laws' common interface; both integrations here are exact.)
     pure subroutine goodman_update(p, s, un, de, midpoint, s_new, s_mid)
         type(goodman_params_t), intent(in) :: p
         real(dp), intent(in) :: s(2), un, de(2)
         logical, intent(in) :: midpoint
         real(dp), intent(out) :: s_new(2), s_mid(2)
-        real(dp) :: ks
         s_mid(1) = goodman_normal_stress(p, un + 0.5_dp*de(1))
         s_new(1) = goodman_normal_stress(p, un + de(1))
-        ks = goodman_shear_stiffness(p, s(1), s(2), un)
-        s_mid(2) = capped(s(2) + 0.5_dp*ks*de(2), s_mid(1))
-        if (midpoint) ks = goodman_shear_stiffness(p, s_mid(1), s_mid(2), un + 0.5_dp*de(1))
-        s_new(2) = capped(s(2) + ks*de(2), s_new(1))
+        s_mid(2) = capped(hyperbolic_shear(p, s(2), 0.5_dp*de(2), -s_mid(1)), s_mid(1))
+        s_new(2) = capped(hyperbolic_shear(p, s(2), de(2), -s_mid(1)), s_new(1))
+        if (midpoint) continue
     contains
         pure real(dp) function capped(tau, sn)
             real(dp), intent(in) :: tau, sn
