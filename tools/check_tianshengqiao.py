@@ -49,7 +49,7 @@ def read_deck(path):
             continue
         word = line[:10].strip().upper()
         if word in ("TITLE", "CONTROL", "NODES", "ELEMENTS", "MATERIALS", "BOUNDARY",
-                    "LOADS", "STAGES", "RESERVOIR", "GAUGES", "END"):
+                    "LOADS", "STAGES", "RESERVOIR", "GAUGES", "INTERFACE", "SLAB", "END"):
             group = word
             continue
         if group == "CONTROL" and line[30:40].strip():
@@ -64,6 +64,9 @@ def read_deck(path):
         if law == "EB":
             weights[number] = float(mat_cards[k + 1][0:10])
             k += 3
+        elif law == "GOODMAN":
+            weights[number] = 0.0       # joints have no volume
+            k += 2
         else:
             weights[number] = float(mat_cards[k + 1][20:30] or 0.0)
             k += 2
@@ -145,13 +148,29 @@ def run_suite(cfrd, workdir):
     subprocess.run([sys.executable, gen, "--refine", "1", "--deck", mid], check=True)
     subprocess.run([sys.executable, gen, "--refine", "1", "--solver", "newton", "--deck",
                     newton], check=True)
-    same = filecmp.cmp(mid, os.path.join(root, "inputs", "tianshengqiao-x1.dat"), shallow=False)
-    print(("PASS" if same else "FAIL") + " tsq/deck-matches-geometry: inputs/tianshengqiao-x1.dat"
-          + (" is" if same else " is NOT") + " what tools/tianshengqiao.py makes of"
-          " inputs/tianshengqiao-i.toml")
-    ok &= same
+    decks = [(mid, [], "tianshengqiao-x1.dat")]
+    runs = [(mid, ["--finding"]), (newton, ["--balance", "--label", "tsq-newton"])]
+    for method in ("joint", "thin"):
+        deck = os.path.join(workdir, f"tianshengqiao-x1-{method}.dat")
+        subprocess.run([sys.executable, gen, "--interface", method, "--deck", deck], check=True)
+        decks.append((deck, [], f"tianshengqiao-x1-{method}.dat"))
+        runs.append((deck, ["--label", f"tsq-{method}"]))
+        # The Newton variant: equilibrium with the thin layer at every stage. (With joints,
+        # Newton to 1e-10 stalls at stage 16 on the floored tangents: issue 6 note.)
+        if method == "joint":
+            continue
+        deck = os.path.join(workdir, f"tianshengqiao-x1-{method}-newton.dat")
+        subprocess.run([sys.executable, gen, "--interface", method, "--solver", "newton",
+                        "--deck", deck], check=True)
+        runs.append((deck, ["--balance", "--label", f"tsq-{method}-newton"]))
+    for made, _, name in decks:
+        same = filecmp.cmp(made, os.path.join(root, "inputs", name), shallow=False)
+        print(("PASS" if same else "FAIL") + f" tsq/deck-matches-geometry: inputs/{name}"
+              + (" is" if same else " is NOT") + " what tools/tianshengqiao.py makes of"
+              " inputs/tianshengqiao-i.toml")
+        ok &= same
     ok &= interface_meshes()
-    for deck, extra in ((mid, ["--finding"]), (newton, ["--balance", "--label", "tsq-newton"])):
+    for deck, extra in runs:
         run = subprocess.run([cfrd, "--quiet", "--out", workdir, deck], capture_output=True,
                              text=True)
         if run.returncode != 0:

@@ -95,6 +95,50 @@ cases = [
  ("gauge-name-twice", sub("GRAVITY\n", "GRAVITY\nGAUGES\n    5 C1-H5\n    6 c1-h5\n"), "{f}:19:6-15: field NAME of GAUGES 6: expected a name not used before (line 18), found 'c1-h5'"),
  ("unknown-stage", sub("GRAVITY\n", "GRAVITY\nSTAGES\nFLOOD\n"), "{f}:18: unknown stage 'FLOOD' in STAGES: expected FILL, LOAD, RESET or WATER"),
 ]
+# A joint deck: two blocks (nodes 1-6 and 7-12) joined by joints between nodes 4-6 and 7-9.
+jbase = """TITLE     bad joint deck
+NODES
+    1    3    1       0.0       0.0       2.0       0.0
+    4    6    1       0.0       1.0       2.0       1.0
+    7    9    1       0.0       1.0       2.0       1.0
+   10   12    1       0.0       2.0       2.0       2.0
+ELEMENTS
+    1    1    2    5    4    1    1    1
+    3    7    8   11   10    1    1    1 SLAB
+MATERIALS
+    1ELASTIC   block
+     1.0E6       0.2      20.0
+    2GOODMAN   joint
+     1.0E7     1.0E4      1000       0.3       1.0      30.0
+INTERFACE
+    1    4    7    2    1    1    2JOINT     LOBATTO   SLAB
+BOUNDARY
+    1    3    1    1    1
+LOADS
+GRAVITY
+END
+"""
+# lines: TITLE 2, NODES 3, nodes 4-7, ELEMENTS 8, elements 9-10, MATERIALS 11, 12-15,
+# INTERFACE 16, pair card 17, BOUNDARY 18, 19, LOADS 20, GRAVITY 21, END 22
+def jsub(old, new):
+    assert old in jbase, old
+    return jbase.replace(old, new, 1)
+PAIR = "    1    4    7    2    1    1    2JOINT     LOBATTO   SLAB"
+cases += [
+ ("goodman-missing-knt", jsub("     1.0E7     1.0E4", "     1.0E7          "), "{f}:15:11-20: field KNT of MATERIALS 2: expected a real > 0 (kPa/m), found ''"),
+ ("goodman-cutoff", jsub("      30.0\n", "      30.0" + " " * 10 + "    2\n"), "{f}:15:71-75: field CUTOFF of MATERIALS 2: expected 0 (tension carried with KNT) or 1 (tension cut-off), found '2'"),
+ ("goodman-on-element", jsub("    1    1    2    5    4    1    1    1\n", "    1    1    2    5    4    2    1    1\n"), "{f}:9:26-30: field MAT of ELEMENTS 1: expected a solid material: GOODMAN is the law of joints, given on INTERFACE cards, found '2'"),
+ ("interface-type", jsub("JOINT     LOBATTO", "GLUE      LOBATTO"), "{f}:17:36-45: field TYPE of INTERFACE line 1: expected an interface type: JOINT or THIN, found 'GLUE'"),
+ ("interface-rule", jsub("JOINT     LOBATTO", "JOINT     SIMPSON"), "{f}:17:46-55: field RULE of INTERFACE line 1: expected an integration rule: GAUSS or LOBATTO"),
+ ("joint-elastic-material", jsub(PAIR, PAIR.replace("    2JOINT", "    1JOINT")), "{f}:17:31-35: field MAT of INTERFACE line 1: expected a GOODMAN material for a JOINT, found '1'"),
+ ("thin-goodman-material", jsub("JOINT     LOBATTO", "THIN              "), "{f}:17:31-35: field MAT of INTERFACE line 1: expected a solid material (not GOODMAN) for THIN, found '2'"),
+ ("joint-gap", jsub("    7    9    1       0.0       1.0       2.0       1.0", "    7    9    1       0.0       1.1       2.0       1.1"), "{f}:17: INTERFACE line 1, pairs 4/7 and 5/8: the nodes of a pair are 1.000E-01 m apart; a JOINT has zero thickness (use THIN for a layer)"),
+ ("joint-orientation", jsub(PAIR, "    1    6    9    2   -1   -1    2JOINT     LOBATTO   SLAB"), "{f}:17: INTERFACE line 1, pairs 6/9 and 5/8: the top nodes' elements lie on the right of the line from bottom node 6 to 5; list the pairs of the line in the opposite order"),
+ ("interface-one-pair", jsub(PAIR, PAIR.replace("    1    4    7    2", "    1    4    7    0")), "{f}:17: INTERFACE line 1 has one node pair"),
+ ("interface-node", jsub(PAIR, PAIR.replace("    1    4    7    2", "    1    4   17    2")), "{f}:17:11-15: field NT of INTERFACE line 1: expected a node from 1 to 12 for every generated pair, found '17'"),
+ ("pressure-on-joint", jsub("GRAVITY\n", "PRESSURE      5    1     100.0\n"), "{f}:21:11-15: field ELEM of PRESSURE: expected a solid element (element 5 is a joint, which has no faces to load), found '5'"),
+ ("slab-group", jsub("BOUNDARY\n", "SLAB\n          FACE\nBOUNDARY\n"), "{f}:19:11-20: field GROUP of SLAB: expected an element group (SLAB), found 'FACE'"),
+]
 for old in os.listdir(P):
     os.remove(P + old)
 for i, (name, deck, expect) in enumerate(cases, 1):

@@ -493,6 +493,24 @@ def interface_pairs(mesh, num):
     return sorted(out, key=lambda p: num.xy[p[0] - 1, 1])
 
 
+def thin_pairs(geo, mesh, num):
+    """Thin layer: every cushion face node under the slab with the slab node the layer's
+    horizontal width upstream of it, bottom to top."""
+    width = geo.v("interface", "thin_thickness") * math.sqrt(1.0 + geo.su ** 2)
+    slab_nodes = {k for q in mesh.quads if q.kind == "slab" for k in q.nodes}
+    at = {tuple(np.round(mesh.coords[k], 6)): k for k in slab_nodes}
+    body_nodes = {k for q in mesh.quads if q.kind == "body" for k in q.nodes}
+    out = []
+    for k in body_nodes:
+        x, y = mesh.coords[k]
+        if abs(x - geo.x_up(y)) > 1e-6:
+            continue
+        s = at.get(tuple(np.round((x - width, y), 6)))
+        if s is not None:
+            out.append((num.index[k], num.index[s]))
+    return sorted(out, key=lambda p: num.xy[p[0] - 1, 1])
+
+
 def number(mesh):
     """Nodes by elevation then x (the base nodes come first); elements by row then x."""
     keys = list(mesh.coords)
@@ -553,18 +571,18 @@ def gauge_nodes(geo, num):
     return out
 
 
-def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="bonded"):
-    if interface in ("joint", "contact"):
-        raise SystemExit(f"--interface {interface}: the deck needs the "
-                         + ("joint elements of issue 6" if interface == "joint" else
-                            "contact module of issue 7")
-                         + "; --report shows the mesh")
+def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="bonded",
+               rule="LOBATTO"):
+    if interface == "contact":
+        raise SystemExit("--interface contact: the deck needs the contact module of issue 7;"
+                         " --report shows the mesh")
     gauges = gauge_nodes(geo, num)
     info = describe(geo, r, num)
     lines = []
     add = lines.append
     what = {"bonded": "slab bonded to the cushion",
-            "thin": "thin layer under the slab"}[interface]
+            "thin": "thin layer under the slab",
+            "joint": f"Goodman joints ({rule.lower()})"}[interface]
     add(f"TITLE     Tianshengqiao-I section 0+630, x{r} mesh, {what}")
     add("* Written by tools/tianshengqiao.py from inputs/tianshengqiao-i.toml; do not edit:")
     add("* edit the geometry file and rerun `python3 tools/tianshengqiao.py --all`.")
@@ -581,12 +599,12 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
         add(f"*   gauge {name}: El. {elevation:.1f} m [{source}] -> cushion node {node} at"
             f" El. {ys:.2f} m")
     add(f"* mesh: {info['nodes']} nodes, {info['body']} body quads, {info['slab']} slab quads,"
-        f" {info['thin']} thin-layer quads;"
+        f" {max(len(num.pairs or []) - 1, 0)} interface elements;"
         f" det J ratio {info['jac_min']:.3f}-{info['jac_max']:.3f}, corner angles"
         f" {info['angle_min']:.1f}-{info['angle_max']:.1f} deg")
     add("CONTROL")
     add("*NNODE NELEM NMAT MODEL        PA    GAMMAW UNITS     NEWTOPSOLVER       TOLMAXIT")
-    nmat = 7 if interface == "thin" else 6
+    nmat = 6 if interface == "bonded" else 7
     control = (fmt_int(len(num.xy)) + fmt_int(len(num.conn)) + fmt_int(nmat) + fmt_int(1)
                + fmt_real(101.325) + fmt_real(GAMMA_W) + fmt_alpha("KN-M") + fmt_int(0))
     if solver == "newton":
@@ -620,6 +638,30 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
         add(fmt_int(THIN_MATERIAL) + fmt_alpha("ELASTIC") + "thin layer between slab and cushion")
         add(fmt_real(geo.v("interface", "thin_youngs_modulus"))
             + fmt_real(geo.v("interface", "thin_poisson_ratio")) + fmt_real(0.0))
+    elif interface == "joint":
+        add(fmt_int(THIN_MATERIAL) + fmt_alpha("GOODMAN") + "slab-cushion joint, paper Table 4")
+        add("*      KNC       KNT        K1        N1       RF1       PHI     SNMIN CUT")
+        add("".join(fmt_real(geo.v("interface", key)) for key in
+                    ("goodman_kn_compression", "goodman_kn_tension", "goodman_k1", "goodman_n1",
+                     "goodman_rf1", "goodman_phi")) + " " * 10
+            + fmt_int(geo.v("interface", "goodman_cutoff")))
+    if interface in ("joint", "thin"):
+        # One line of node pairs from the toe up: cushion node (bottom), slab node (top);
+        # the element above each pair belongs to the slab phase that places it.
+        add("INTERFACE")
+        add("*LINE   NB   NT NGEN INCB INCT  MAT TYPE      RULE      GROUP")
+        tops = geo.v("slab", "phase_tops")
+        pairs = num.pairs
+        for k, (b, t) in enumerate(pairs):
+            y_next = num.xy[pairs[min(k + 1, len(pairs) - 1)][0] - 1, 1]
+            phase = next(i for i, top in enumerate(tops, 1) if y_next <= top + 1e-6)
+            add(fmt_int(1) + fmt_int(b) + fmt_int(t) + " " * 15 + fmt_int(THIN_MATERIAL)
+                + fmt_alpha("JOINT" if interface == "joint" else "THIN")
+                + fmt_alpha(rule if interface == "joint" else "") + fmt_alpha(f"SLAB{phase}"))
+        add("SLAB")
+        add("*         GROUP")
+        for phase in range(1, len(tops) + 1):
+            add(" " * 10 + fmt_alpha(f"SLAB{phase}"))
     add("BOUNDARY")
     add("*  N1   N2  INC   IX   IY")
     base = np.nonzero(np.abs(num.xy[:, 1] - geo.base) < 1e-9)[0] + 1
@@ -654,8 +696,20 @@ def generate(r, geo=None, interface="bonded"):
     assign_zones(geo, mesh)
     stages, notes = plan_history(geo, mesh)
     fine = refine(mesh, r)
+    if interface == "thin":
+        # The layer is one element thick at every refinement: the INTERFACE cards make its
+        # quads from the cushion and slab node pairs, so the refined layer goes.
+        layer_keys = {k for q in fine.quads if q.kind == "thin" for k in q.nodes}
+        fine.quads = [q for q in fine.quads if q.kind != "thin"]
+        used = {k for q in fine.quads for k in q.nodes}
+        fine.coords = {k: v for k, v in fine.coords.items() if k in used or k not in layer_keys}
     num = number(fine)
-    num.pairs = interface_pairs(fine, num) if interface == "joint" else []
+    if interface == "joint":
+        num.pairs = interface_pairs(fine, num)
+    elif interface == "thin":
+        num.pairs = thin_pairs(geo, fine, num)
+    else:
+        num.pairs = []
     return geo, num, stages, notes
 
 
@@ -663,7 +717,7 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--refine", type=int, default=1, choices=[1, 2, 4, 8])
     parser.add_argument("--deck", help="write the cfrd deck here")
-    parser.add_argument("--all", action="store_true",
+    parser.add_argument("--all", action="store_true",  # x1, x2 bonded; x1 joint and thin
                         help="write inputs/tianshengqiao-x1.dat and -x2.dat")
     parser.add_argument("--interface", default="bonded", choices=list(INTERFACES),
                         help="slab-cushion interface: bonded (shared nodes), thin (thin-layer"
@@ -673,20 +727,24 @@ def main(argv=None):
     parser.add_argument("--solver", default="midpoint", choices=["midpoint", "newton"],
                         help="midpoint stiffness (the paper's) or Newton to 1e-10")
     parser.add_argument("--report", action="store_true", help="print the mesh quality")
+    parser.add_argument("--rule", default="LOBATTO", choices=["LOBATTO", "GAUSS"],
+                        help="integration rule of the joints (--interface joint)")
     args = parser.parse_args(argv)
     geo = Geometry(args.geometry)
     jobs = []
     if args.all:
         root = Path(__file__).resolve().parent.parent / "inputs"
-        jobs = [(r, root / f"tianshengqiao-x{r}.dat") for r in (1, 2)]
+        jobs = [(r, root / f"tianshengqiao-x{r}.dat", "bonded") for r in (1, 2)]
+        jobs += [(1, root / f"tianshengqiao-x1-{m}.dat", m) for m in ("joint", "thin")]
     elif args.deck:
-        jobs = [(args.refine, Path(args.deck))]
+        jobs = [(args.refine, Path(args.deck), args.interface)]
     else:
-        jobs = [(args.refine, None)]
-    for r, path in jobs:
-        geo, num, stages, notes = generate(r, geo, args.interface)
+        jobs = [(args.refine, None, args.interface)]
+    for r, path, interface in jobs:
+        geo, num, stages, notes = generate(r, geo, interface)
         if path is not None:
-            info = write_deck(geo, r, num, stages, notes, path, args.solver, args.interface)
+            info = write_deck(geo, r, num, stages, notes, path, args.solver, interface,
+                              args.rule)
         else:
             info = describe(geo, r, num)
         if args.report or path is None:

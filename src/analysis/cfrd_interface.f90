@@ -222,7 +222,7 @@ contains
         integer :: ns, i, e, ig, nsec, j, m
         ns = 0
         do e = 1, model%mesh%nelem
-            if (any(model%slab_groups == model%mesh%group(e))) ns = ns + 1
+            if (in_slab(e)) ns = ns + 1
         end do
         allocate (res%element(ns))
         allocate (res%x(4, ns), res%y(4, ns), res%s(4, ns), res%sigma_t(4, ns), &
@@ -237,7 +237,7 @@ contains
         end if
         ns = 0
         do e = 1, model%mesh%nelem
-            if (.not. any(model%slab_groups == model%mesh%group(e))) cycle
+            if (.not. in_slab(e)) cycle
             ns = ns + 1
             res%element(ns) = e
         end do
@@ -328,6 +328,14 @@ contains
             res%sigma_cushion(j) = res%axial(j)/res%thickness(j) - &
                                    6.0_dp*res%moment(j)/res%thickness(j)**2
         end do
+    contains
+        !> A solid element of a SLAB group (not one of the interface elements).
+        logical function in_slab(e)
+            integer, intent(in) :: e
+            in_slab = any(model%slab_groups == model%mesh%group(e))
+            if (in_slab .and. allocated(model%interfaces)) &
+                in_slab = .not. any(model%interfaces%element == e)
+        end function in_slab
     end subroutine slab_stresses
 
     !> Unit direction of the slab's straight fit (from the lowest slab centroid to the one

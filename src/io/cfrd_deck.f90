@@ -120,7 +120,7 @@ module cfrd_deck
                                 field_t('TYPE', 36, 10, text_field), &
                                 field_t('RULE', 46, 10, text_field), &
                                 field_t('GROUP', 56, 10, text_field)]
-    type(field_t), parameter :: slab_fields(1) = [field_t('GROUP', 1, 10, text_field)]
+    type(field_t), parameter :: slab_fields(1) = [field_t('GROUP', 11, 10, text_field)]
     type(field_t), parameter :: stage_fields(5) = [ &
                                 field_t('KEYWORD', 1, 10, text_field), &
                                 field_t('GROUP', 11, 10, text_field), &
@@ -1329,7 +1329,7 @@ contains
     end function thin_aspect
 
     !> SLAB: the element groups that form the face slab, whose stresses are tabulated along
-    !> the slab axis.
+    !> the slab axis (the groups' interface elements, placed with the slab, are left out).
     subroutine read_slab(file, group, model, error)
         character(len=*), intent(in) :: file
         type(group_cards_t), intent(in) :: group
@@ -1356,12 +1356,6 @@ contains
                 if (any(model%slab_groups == g)) then
                     call field_error(error, file, card, slab_fields, 1, 'SLAB', &
                                      'a group not listed before', name)
-                    return
-                end if
-                if (any(model%mesh%kind == elem_joint_gauss .and. model%mesh%group == g) .or. &
-                    any(model%mesh%kind == elem_joint_lobatto .and. model%mesh%group == g)) then
-                    call field_error(error, file, card, slab_fields, 1, 'SLAB', &
-                                     'a group of solid elements (this one holds joints)', name)
                     return
                 end if
                 model%slab_groups = [model%slab_groups, g]
