@@ -13,6 +13,8 @@ module test_analysis_interface
                           method_joint, method_thin, solver_newton
     use cfrd_results, only: results_t
     use cfrd_stage_driver, only: run_analysis
+    use cfrd_interface, only: interface_stations, phase_openings, open_gap
+    use cfrd_results, only: interface_result_t, opening_t
     use cfrd_test_models, only: new_model, elastic_material
     implicit none
     private
@@ -30,7 +32,8 @@ contains
                 new_unittest('joint_patch_lobatto', test_patch_lobatto), &
                 new_unittest('coulomb_limit', test_coulomb), &
                 new_unittest('stiff_joint_oscillation', test_oscillation), &
-                new_unittest('thin_layer_tends_to_joint', test_thin_to_joint) &
+                new_unittest('thin_layer_tends_to_joint', test_thin_to_joint), &
+                new_unittest('opening_width_and_depth', test_opening) &
                 ]
     end subroutine collect_analysis_interface
 
@@ -378,4 +381,33 @@ contains
         end do
         call check(error, diff(3), 0.0_dp, 'thin layer (d = 0.001) vs joint', abs=1.0e-3_dp)
     end subroutine test_thin_to_joint
+
+    !> Opening of a phase from given stations (closed form): 4 Lobatto joints of length 1 on
+    !> a line rising at 10 deg, opening du_n = 0.01 (s - 2.5) m along the line. The top is the
+    !> line's end (s = 4); the open zone ends where du_n = open_gap, at s = 2.5 + 100 open_gap
+    !> (linear, so the interpolation is exact): depth 1.5 - 100 open_gap, width 0.015 m.
+    subroutine test_opening(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(model_t) :: model
+        type(interface_result_t) :: res
+        type(opening_t), allocatable :: openings(:)
+        real(dp) :: zero(4, 4, 12)
+        integer :: k
+        call two_blocks(model, 4, 1, 4.0_dp, 1.0_dp, 1.0_dp, 0.0_dp, elem_joint_lobatto, &
+                        elastic_material(1.0e4_dp, 0.2_dp, 0.0_dp), linear_joint(1.0e6_dp, &
+                        1.0e4_dp), 10.0_dp)
+        zero = 0.0_dp
+        call interface_stations(model, zero, zero, [(.true., k=1, 12)], res)
+        res%du_n = 0.01_dp*(res%s - 2.5_dp)
+        call phase_openings(model, res, openings)
+        if (size(openings) /= 1) then
+            call fail(error, 'expected one phase')
+            return
+        end if
+        call check(error, openings(1)%depth, 1.5_dp - 100.0_dp*open_gap, 'depth', rel=1e-12_dp)
+        if (allocated(error)) return
+        call check(error, openings(1)%width, 0.015_dp, 'width', rel=1e-12_dp)
+        if (allocated(error)) return
+        call check(error, openings(1)%length, 4.0_dp, 'length', rel=1e-12_dp)
+    end subroutine test_opening
 end module test_analysis_interface
