@@ -13,8 +13,8 @@ module test_analysis_interface
                           method_joint, method_thin, solver_newton
     use cfrd_results, only: results_t
     use cfrd_stage_driver, only: run_analysis
-    use cfrd_interface, only: interface_stations, phase_openings, open_gap
-    use cfrd_results, only: interface_result_t, opening_t
+    use cfrd_interface, only: interface_stations, phase_openings, open_gap, slab_stresses
+    use cfrd_results, only: interface_result_t, opening_t, slab_result_t
     use cfrd_test_models, only: new_model, elastic_material
     implicit none
     private
@@ -33,7 +33,8 @@ contains
                 new_unittest('coulomb_limit', test_coulomb), &
                 new_unittest('stiff_joint_oscillation', test_oscillation), &
                 new_unittest('thin_layer_tends_to_joint', test_thin_to_joint), &
-                new_unittest('opening_width_and_depth', test_opening) &
+                new_unittest('opening_width_and_depth', test_opening), &
+                new_unittest('slab_section_resultants', test_slab_sections) &
                 ]
     end subroutine collect_analysis_interface
 
@@ -410,4 +411,83 @@ contains
         if (allocated(error)) return
         call check(error, openings(1)%length, 4.0_dp, 'length', rel=1e-12_dp)
     end subroutine test_opening
+
+    !> Slab sections from a given stress field (closed form): a strip of 3 x 2 quads, length
+    !> 12, thickness h = 0.6 (two layers), its axis t at 35 deg, with sigma_tt = a + b zeta
+    !> (zeta across the strip from its mid-line along n) and tau = c: N = a h, V = c h,
+    !> M = b h^3/12 in every section (2x2 Gauss integrates the quadratic moment exactly),
+    !> fibre stresses a +- b h/2; 1e-12 relative.
+    subroutine test_slab_sections(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(model_t) :: model
+        type(slab_result_t) :: res
+        real(dp), parameter :: a = -3000.0_dp, b = 2000.0_dp, c = 150.0_dp, h = 0.6_dp
+        real(dp) :: x(2, 12), t(2), n(2), stress(4, 4, 6), xg(2, 4), zeta, sig_t, sxx, syy, &
+                    sxy, p(2)
+        integer :: conn(4, 6), i, j, e, ig
+        t = [cos(35.0_dp*deg), sin(35.0_dp*deg)]
+        n = [-t(2), t(1)]
+        do j = 0, 2
+            do i = 0, 3
+                p = 4.0_dp*i*t + (h*j/2.0_dp - h/2.0_dp)*n
+                x(:, 4*j + i + 1) = p
+            end do
+        end do
+        e = 0
+        do j = 0, 1
+            do i = 0, 2
+                e = e + 1
+                conn(:, e) = [4*j + i + 1, 4*j + i + 2, 4*(j + 1) + i + 2, 4*(j + 1) + i + 1]
+            end do
+        end do
+        call new_model(model, x, conn, [(1, i=1, 6)], [elastic_material(3.0e7_dp, 0.2_dp, &
+                       0.0_dp)])
+        model%mesh%group = 1
+        model%mesh%group_name = [character(len=10) :: 'SLAB']
+        model%slab_groups = [1]
+        allocate (model%interfaces(0))
+        stress = 0.0_dp
+        do e = 1, 6
+            ! Gauss points of the quad (2x2 rule, point k nearest node k).
+            do ig = 1, 4
+                xg(:, ig) = 0.0_dp
+                do i = 1, 4
+                    xg(:, ig) = xg(:, ig) + 0.25_dp*(1.0_dp + gx(i)*gx(ig)/sqrt(3.0_dp))* &
+                                (1.0_dp + gy(i)*gy(ig)/sqrt(3.0_dp))*x(:, conn(i, e))
+                end do
+                zeta = dot_product(xg(:, ig), n)
+                sig_t = a + b*zeta
+                sxx = sig_t*t(1)**2 + 2.0_dp*c*t(1)*n(1)
+                syy = sig_t*t(2)**2 + 2.0_dp*c*t(2)*n(2)
+                sxy = sig_t*t(1)*t(2) + c*(t(1)*n(2) + t(2)*n(1))
+                stress(:, ig, e) = [sxx, syy, 0.0_dp, sxy]
+            end do
+        end do
+        call slab_stresses(model, stress, [(.true., i=1, 6)], res)
+        if (size(res%axial) /= 3) then
+            call fail(error, 'expected 3 sections')
+            return
+        end if
+        do j = 1, 3
+            call check(error, res%thickness(j), h, 'thickness', rel=1e-12_dp)
+            if (allocated(error)) return
+            call check(error, res%axial(j), a*h, 'N = a h', rel=1e-12_dp)
+            if (allocated(error)) return
+            call check(error, res%shear(j), c*h, 'V = c h', rel=1e-12_dp)
+            if (allocated(error)) return
+            call check(error, res%moment(j), b*h**3/12.0_dp, 'M = b h^3/12', rel=1e-12_dp)
+            if (allocated(error)) return
+            call check(error, res%sigma_water(j), a + b*h/2.0_dp, 'water-side fibre', rel=1e-12_dp)
+            if (allocated(error)) return
+        end do
+    contains
+        pure real(dp) function gx(k)
+            integer, intent(in) :: k
+            gx = merge(-1.0_dp, 1.0_dp, k == 1 .or. k == 4)
+        end function gx
+        pure real(dp) function gy(k)
+            integer, intent(in) :: k
+            gy = merge(-1.0_dp, 1.0_dp, k <= 2)
+        end function gy
+    end subroutine test_slab_sections
 end module test_analysis_interface
