@@ -95,6 +95,7 @@ tool_checks "peer --column" python3 tools/ccx_peer.py --cfrd "$cfrd" --column --
 tool_checks "peer --elements 1000" python3 tools/ccx_peer.py --cfrd "$cfrd" --elements 1000 \
     --workdir "$work/peer"
 # Layer-by-layer construction against a superposition of CalculiX runs, both conventions.
+tool_checks "peer thin layer" python3 tools/ccx_thin.py --cfrd "$cfrd" --workdir "$work/ccx-thin"
 tool_checks "ccx staged" python3 tools/ccx_staged.py --cfrd "$cfrd" --workdir "$work/ccx-staged"
 # The E-B law: scipy's integration of it, checked on Kondner's hyperbola, then against
 # cfrd's plane-strain compression of two Table 3 materials.

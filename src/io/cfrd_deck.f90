@@ -1297,7 +1297,7 @@ contains
         do k = 1, size(model%interfaces)
             if (model%interfaces(k)%method /= method_thin) cycle
             ratio = thin_aspect(model%mesh, model%interfaces(k)%element)
-            if (ratio >= 0.01_dp .and. ratio <= 0.1_dp) cycle
+            if (ratio >= 0.01_dp*(1.0_dp - 1.0e-9_dp) .and. ratio <= 0.1_dp*(1.0_dp + 1.0e-9_dp)) cycle
             count_out = count_out + 1
             lo = min(lo, ratio)
             hi = max(hi, ratio)
@@ -1311,7 +1311,7 @@ contains
             write (range, '(f0.4,a,f0.4)') lo, ' to ', hi
             text = to_text(count_out)//' thin-layer element(s) with thickness / length '// &
                    trim(range)//', outside 0.01-0.1 (Desai et al. 1984): elements'//outside
-            model%warnings = [model%warnings, text]
+            model%warnings = [character(len=300) :: model%warnings, text]
         end block
     end subroutine thin_layer_warnings
 
