@@ -222,7 +222,7 @@ contains
         type(stage_result_t), intent(inout) :: result
         type(error_t), allocatable, intent(out) :: error
         real(dp), intent(in) :: levels(2)
-        integer, parameter :: max_cutbacks = 6
+        integer, parameter :: max_cutbacks = 6, max_growth = 64
         real(dp) :: done, step, nominal, level
         real(dp), allocatable :: f_water(:, :)
         integer :: cuts, k
@@ -250,6 +250,15 @@ contains
             if (allocated(error)) then
                 if (index(error%message, 'no convergence') == 0 .or. &
                     cuts == max_cutbacks) return
+                ! Cutbacks that keep succeeding once and failing again must not run on for
+                ! ever: at most max_growth times the nominal increments per stage.
+                if (k > max_growth*n) then
+                    error%message = error%message//'; stopped after '//to_text(k)// &
+                                    ' increments in this stage (more than '// &
+                                    to_text(max_growth)//' times the '//to_text(n)// &
+                                    ' asked for)'
+                    return
+                end if
                 ! Nothing of the state changed: retry the increment in two halves.
                 deallocate (error)
                 cuts = cuts + 1
