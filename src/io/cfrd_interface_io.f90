@@ -8,6 +8,7 @@ module cfrd_interface_io
     use cfrd_model, only: model_t, dry_level, method_name
     use cfrd_results, only: results_t, stage_result_t, opening_t
     use cfrd_columns, only: csv_real, date_of, level_of
+    use cfrd_strings, only: to_text
     implicit none
     private
 
@@ -178,11 +179,11 @@ contains
                         if (.not. st%interface%active(k)) cycle
                         do j = 1, 2
                             write (unit, '(a)', iostat=stat, iomsg=msg) stage_columns(st, s)// &
-                                ','//int_text(model%interfaces(k)%element)//','// &
-                                int_text(model%interfaces(k)%line)//','// &
+                                ','//to_text(model%interfaces(k)%element)//','// &
+                                to_text(model%interfaces(k)%line)//','// &
                                 method_name(model%interfaces(k)%method)//','// &
                                 group_text(model, model%mesh%group( &
-                                           model%interfaces(k)%element))//','//int_text(j)// &
+                                           model%interfaces(k)%element))//','//to_text(j)// &
                                 ','//csv_real(st%interface%x(j, k))//','// &
                                 csv_real(st%interface%y(j, k))//','// &
                                 csv_real(st%interface%s(j, k))//','// &
@@ -207,7 +208,7 @@ contains
                     do k = 1, size(st%openings)
                         associate (op => st%openings(k))
                             write (unit, '(a)', iostat=stat, iomsg=msg) stage_columns(st, s)// &
-                                ','//int_text(op%line)//','//group_text(model, op%group)// &
+                                ','//to_text(op%line)//','//group_text(model, op%group)// &
                                 ','//csv_real(op%width)//','//csv_real(op%depth)//','// &
                                 csv_real(op%length)//','//csv_real(op%top(1))//','// &
                                 csv_real(op%top(2))//','//csv_real(op%max_compression)// &
@@ -232,7 +233,7 @@ contains
                     do k = 1, size(sl%section_s)
                         if (.not. sl%section_active(k)) cycle
                         write (unit, '(a)', iostat=stat, iomsg=msg) stage_columns(st, s)// &
-                            ','//int_text(k)//','//csv_real(sl%section_s(k))//','// &
+                            ','//to_text(k)//','//csv_real(sl%section_s(k))//','// &
                             csv_real(sl%section_x(k))//','//csv_real(sl%section_y(k))//','// &
                             csv_real(sl%thickness(k))//','//csv_real(sl%axial(k))//','// &
                             csv_real(sl%shear(k))//','//csv_real(sl%moment(k))//','// &
@@ -252,7 +253,7 @@ contains
         type(stage_result_t), intent(in) :: st
         integer, intent(in) :: s
         character(len=:), allocatable :: text
-        text = int_text(s)//',"'//st%name//'",'//trim(adjustl(date_of(st)))//','
+        text = to_text(s)//',"'//st%name//'",'//trim(adjustl(date_of(st)))//','
         if (st%water_level /= dry_level) text = text//trim(adjustl(level_of(st)))
     end function stage_columns
 
@@ -263,12 +264,4 @@ contains
         text = ''
         if (group > 0) text = trim(model%mesh%group_name(group))
     end function group_text
-
-    function int_text(i) result(text)
-        integer, intent(in) :: i
-        character(len=:), allocatable :: text
-        character(len=12) :: buffer
-        write (buffer, '(i0)') i
-        text = trim(buffer)
-    end function int_text
 end module cfrd_interface_io
