@@ -9,6 +9,7 @@ module cfrd_interface
     use cfrd_shape, only: gauss_2x2
     use cfrd_quad4, only: quad4_bmatrix
     use cfrd_joint4, only: joint_frame
+    use cfrd_model_check, only: layer_thickness
     implicit none
     private
 
@@ -81,15 +82,6 @@ contains
             s0 = s0 + length
         end do
     end subroutine interface_stations
-
-    !> Thickness of a thin-layer quad: its area over the mean length of faces 1-2 and 3-4.
-    pure real(dp) function layer_thickness(p) result(thick)
-        real(dp), intent(in) :: p(2, 4)
-        real(dp) :: area
-        area = 0.5_dp*((p(1, 3) - p(1, 1))*(p(2, 4) - p(2, 2)) - &
-                       (p(1, 4) - p(1, 2))*(p(2, 3) - p(2, 1)))
-        thick = area/(0.5_dp*(norm2(p(:, 2) - p(:, 1)) + norm2(p(:, 3) - p(:, 4))))
-    end function layer_thickness
 
     !> Whether station j of interface element k is open, and the value that changes sign at
     !> the end of the open zone (the opening of a joint, the normal stress of a thin layer).

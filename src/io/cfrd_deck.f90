@@ -13,7 +13,7 @@ module cfrd_deck
                           elem_quad4, elem_joint_gauss, elem_joint_lobatto, is_joint_kind, &
                           interface_element_t, method_joint, method_thin, all_groups
     use cfrd_model_check, only: element_shape, first_unused_node, free_rigid_mode, &
-                                shape_ok, shape_degenerate, unplaced_load
+                                shape_ok, shape_degenerate, unplaced_load, layer_thickness
     use cfrd_cards, only: card_t, field_t, deck_lines_t, int_field, real_field, text_field, &
                           read_deck_lines, classify_line, get_int, get_real, get_text, &
                           field_error, card_error, upper, is_comment, is_real, to_text
@@ -1159,7 +1159,7 @@ contains
                     pair_top = [pair_top, nt + g*inct]
                     pair_card = [pair_card, i]
                 end do
-                if (position_int(lines, line) == 0) lines = [lines, line]
+                if (.not. any(lines == line)) lines = [lines, line]
             end associate
         end do
         ! Elements between consecutive pairs of each line, lines in order of appearance.
@@ -1246,15 +1246,6 @@ contains
         end do
         call thin_layer_warnings(model)
     contains
-        pure integer function position_int(list, value)
-            integer, intent(in) :: list(:), value
-            integer :: j
-            position_int = 0
-            do j = 1, size(list)
-                if (list(j) == value) position_int = j
-            end do
-        end function position_int
-
         pure real(dp) function cross(p, q)
             real(dp), intent(in) :: p(2), q(2)
             cross = p(1)*q(2) - p(2)*q(1)
@@ -1315,17 +1306,13 @@ contains
         end block
     end subroutine thin_layer_warnings
 
-    !> Thickness / length of the thin-layer quad e: area over the mean length of its bottom
-    !> (1-2) and top (3-4) faces, over that mean length.
+    !> Thickness / length of the thin-layer quad e (length: mean of faces 1-2 and 3-4).
     pure real(dp) function thin_aspect(mesh, e) result(ratio)
         type(mesh_t), intent(in) :: mesh
         integer, intent(in) :: e
-        real(dp) :: p(2, 4), area, length
+        real(dp) :: p(2, 4)
         p = mesh%x(:, mesh%conn(:, e))
-        area = 0.5_dp*((p(1, 3) - p(1, 1))*(p(2, 4) - p(2, 2)) - &
-                       (p(1, 4) - p(1, 2))*(p(2, 3) - p(2, 1)))
-        length = 0.5_dp*(norm2(p(:, 2) - p(:, 1)) + norm2(p(:, 3) - p(:, 4)))
-        ratio = area/length**2
+        ratio = layer_thickness(p)/(0.5_dp*(norm2(p(:, 2) - p(:, 1)) + norm2(p(:, 3) - p(:, 4))))
     end function thin_aspect
 
     !> SLAB: the element groups that form the face slab, whose stresses are tabulated along

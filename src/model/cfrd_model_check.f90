@@ -8,6 +8,7 @@ module cfrd_model_check
     private
 
     public :: element_shape, first_unused_node, free_rigid_mode, unplaced_load
+    public :: layer_thickness
     public :: shape_ok, shape_degenerate, shape_inverted
 
     integer, parameter :: shape_ok = 0, shape_degenerate = 1, shape_inverted = 2
@@ -50,6 +51,16 @@ contains
             end if
         end do
     end function element_shape
+
+    !> Thickness of a thin-layer quad p(2,4) (faces 1-2 and 3-4 along the layer): its area
+    !> over the mean length of those faces.
+    pure real(dp) function layer_thickness(p) result(thick)
+        real(dp), intent(in) :: p(2, 4)
+        real(dp) :: area
+        area = 0.5_dp*((p(1, 3) - p(1, 1))*(p(2, 4) - p(2, 2)) - &
+                       (p(1, 4) - p(1, 2))*(p(2, 3) - p(2, 1)))
+        thick = area/(0.5_dp*(norm2(p(:, 2) - p(:, 1)) + norm2(p(:, 3) - p(:, 4))))
+    end function layer_thickness
 
     pure real(dp) function cross2(a, b)
         real(dp), intent(in) :: a(2), b(2)
