@@ -12,6 +12,7 @@ program cfrd_tests
     use test_materials_eb, only: collect_materials_eb
     use test_analysis_water, only: collect_analysis_water
     use test_analysis_interface, only: collect_analysis_interface
+    use test_contact_mortar, only: collect_contact_mortar
     implicit none
     character(len=64) :: only_suite, only_test
     type(unittest_t), allocatable :: tests(:)
@@ -55,6 +56,10 @@ program cfrd_tests
     if (wanted('analysis_interface')) then
         call collect_analysis_interface(tests)
         call run_suite('analysis_interface', tests, only_test, npass, nfail)
+    end if
+    if (wanted('contact_mortar')) then
+        call collect_contact_mortar(tests)
+        call run_suite('contact_mortar', tests, only_test, npass, nfail)
     end if
     if (wanted('io_results')) then
         call collect_io_results(tests)

@@ -21,6 +21,12 @@ module cfrd_stage_driver
                              gather, active_nodes
     use cfrd_water, only: water_forces, lowest_wet_point
     use cfrd_interface, only: interface_stations, phase_openings, slab_stresses
+    use cfrd_contact, only: contact_t, new_contact, contact_geometry, contact_element_dofs, &
+                            contact_element_matrix, contact_rhs, contact_unpack, &
+                            contact_update_sets, contact_forces, contact_accept, &
+                            contact_iteration_limit, contact_slip
+    use cfrd_contact_results, only: record_contact
+    use cfrd_sparse, only: assemble_element
     implicit none
     private
 
@@ -51,6 +57,8 @@ module cfrd_stage_driver
         real(dp), allocatable :: f_ext(:, :)         !! (2, nnode) applied so far
         logical :: prescribed_done = .false.         !! BOUNDARY values applied
         real(dp) :: level = dry_level                !! reservoir level, m
+        logical :: has_contact = .false.             !! the deck has CONTACT pairs
+        type(contact_t) :: contact                   !! their state (docs/theory.md s. 14)
     end type state_t
 
     !> The linear-algebra objects of one active set.
@@ -61,7 +69,21 @@ module cfrd_stage_driver
         real(dp), allocatable :: values(:)
         logical :: factorised_linear = .false.   !! a constant tangent is factorised already
         logical :: analysed = .false.            !! the symbolic factorisation exists
+        !> With contact: the tangent K alone (the contact rows are added per active set),
+        !> and the scale of the multipliers (a stiffness per length, docs/theory.md s. 14)
+        real(dp), allocatable :: k_values(:)
+        real(dp) :: contact_scale = 1.0_dp
+        !> (2, ncontact) the normal / tangential constraint of a slave node moves some free
+        !> dof (else every dof it ties is prescribed: the constraint is left out)
+        logical, allocatable :: constrains(:, :)
+        !> Regularisation of the slip rows for this solve (contact_element_matrix): 0, or
+        !> slip_viscosity after a singular factorisation with sliding nodes
+        real(dp) :: viscous = 0.0_dp
     end type system_t
+
+    !> The slip rows' regularisation when a body held by friction alone slips at every
+    !> node (a mechanism of the linearised equations): q = mu p sign - 1e-9 c_n slip.
+    real(dp), parameter :: slip_viscosity = 1.0e-9_dp
 
 contains
 
@@ -81,6 +103,10 @@ contains
         call make_elements(model, library, error)
         if (allocated(error)) return
         call initial_state(model, state)
+        if (allocated(model%contact_pairs)) then
+            state%has_contact = size(model%contact_pairs) > 0
+            if (state%has_contact) call new_contact(model, state%contact)
+        end if
         allocate (results%stages(size(model%stages)))
         do s = 1, size(model%stages)
             call run_stage(model, library, s, state, system, results%stages(s), error)
@@ -172,7 +198,8 @@ contains
             if (stage%kind /= stage_reset) then
                 if (stage%kind == stage_fill .or. .not. allocated(system%values)) then
                     t1 = wall_seconds()
-                    call new_system(model, library, state%active, system, error)
+                    call new_system(model, library, state%active, system, error, &
+                                    state%contact, state%has_contact)
                     if (allocated(error)) return
                     result%stats%t_pattern = wall_seconds() - t1
                 end if
@@ -277,17 +304,45 @@ contains
 
 
     !> Equations, pattern and a fresh solver for the current active set.
-    subroutine new_system(model, library, active, system, error)
+    !> With contact, each slave node is one more element (its coupled nodes and its two
+    !> multiplier equations, numbered after the displacement equations).
+    subroutine new_system(model, library, active, system, error, contact, has_contact)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         logical, intent(in) :: active(:)
         type(system_t), intent(inout) :: system
         type(error_t), allocatable, intent(out) :: error
+        type(contact_t), intent(in) :: contact
+        logical, intent(in) :: has_contact
+        integer, allocatable :: dof_ptr(:), dofs(:), more(:)
+        integer :: c, nelem, pos
         call system%solver%release()
         call number_equations(model, library, active, system%dofmap)
-        call build_pattern(system%pattern, system%dofmap%neq, system%dofmap%dof_ptr, &
-                           system%dofmap%dofs, error)
+        if (has_contact) then
+            nelem = model%mesh%nelem
+            allocate (dof_ptr(nelem + contact%nc + 1))
+            dof_ptr(1:nelem + 1) = system%dofmap%dof_ptr
+            do c = 1, contact%nc
+                dof_ptr(nelem + c + 1) = dof_ptr(nelem + c) + 2* &
+                    (contact%cpl_ptr(c + 1) - contact%cpl_ptr(c)) + 2
+            end do
+            allocate (dofs(dof_ptr(nelem + contact%nc + 1) - 1))
+            dofs(1:size(system%dofmap%dofs)) = system%dofmap%dofs
+            pos = dof_ptr(nelem + 1)
+            do c = 1, contact%nc
+                more = contact_element_dofs(contact, c, system%dofmap%eq, system%dofmap%neq)
+                dofs(pos:pos + size(more) - 1) = more
+                pos = pos + size(more)
+            end do
+            call build_pattern(system%pattern, system%dofmap%neq + 2*contact%nc, dof_ptr, &
+                               dofs, error)
+            system%constrains = constraining_rows(contact, system%dofmap%eq)
+        else
+            call build_pattern(system%pattern, system%dofmap%neq, system%dofmap%dof_ptr, &
+                               system%dofmap%dofs, error)
+        end if
         if (allocated(error)) return
+        if (allocated(system%k_values)) deallocate (system%k_values)
         if (allocated(system%values)) deallocate (system%values)
         allocate (system%values(system%pattern%nnz), source=0.0_dp)
         system%factorised_linear = .false.
@@ -296,8 +351,10 @@ contains
 
     !> Assemble the tangent at the given stresses and factorise it (numeric phase only while
     !> the pattern holds). A constant (linear elastic) tangent is factorised once per system.
+    !> With contact (`contact` present), K is kept apart and the contact rows of the current
+    !> active set are added before each factorisation (factorise_contact).
     subroutine factorise_at(model, library, state, stress, system, result, context, error, &
-                            tangents)
+                            tangents, contact)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(in) :: state
@@ -307,15 +364,117 @@ contains
         character(len=*), intent(in) :: context
         type(error_t), allocatable, intent(out) :: error
         real(dp), intent(in), optional :: tangents(:, :, :, :)
+        type(contact_t), intent(in), optional :: contact
         real(dp) :: t0, t1
         logical :: linear
         linear = all_linear(model, state%active)
+        if (present(contact)) then
+            if (.not. (linear .and. allocated(system%k_values))) then
+                t0 = wall_seconds()
+                call assemble_tangent(model, library, state%active, system%pattern, stress, &
+                                      state%strain, state%history, system%values, tangents)
+                if (.not. allocated(system%k_values)) system%contact_scale = &
+                    multiplier_scale(system, contact)
+                system%k_values = system%values
+                result%stats%t_assembly = result%stats%t_assembly + (wall_seconds() - t0)
+            end if
+            call factorise_contact(model, system, contact, result, context, error)
+            return
+        end if
         if (linear .and. system%factorised_linear) return
         t0 = wall_seconds()
         call assemble_tangent(model, library, state%active, system%pattern, stress, &
                               state%strain, state%history, system%values, tangents)
         t1 = wall_seconds()
         result%stats%t_assembly = result%stats%t_assembly + (t1 - t0)
+        call factorise_values(system, result, context, error)
+        system%factorised_linear = linear
+    end subroutine factorise_at
+
+    !> The multiplier scale: the largest diagonal entry of K over the largest slave node
+    !> length, so that the contact entries (scale x length) are of the size of K's.
+    pure real(dp) function multiplier_scale(system, contact) result(scale)
+        type(system_t), intent(in) :: system
+        type(contact_t), intent(in) :: contact
+        real(dp) :: diagonal
+        integer :: j, p
+        diagonal = 0.0_dp
+        do j = 1, system%dofmap%neq
+            do p = system%pattern%colptr(j) + 1, system%pattern%colptr(j + 1)
+                if (system%pattern%rowind(p) == j - 1) &
+                    diagonal = max(diagonal, abs(system%values(p)))
+            end do
+        end do
+        scale = max(diagonal, tiny(1.0_dp))
+        if (maxval([0.0_dp, contact%wref]) > 0.0_dp) scale = scale/maxval(contact%wref)
+    end function multiplier_scale
+
+    !> Whether each slave node's normal and tangential constraints reach a free dof: the
+    !> weights of its coupled free dofs along n and t are not all (nearly) zero.
+    pure function constraining_rows(contact, eq) result(constrains)
+        type(contact_t), intent(in) :: contact
+        integer, intent(in) :: eq(:, :)
+        logical, allocatable :: constrains(:, :)
+        real(dp) :: free(2), total
+        integer :: c, k, node
+        allocate (constrains(2, contact%nc))
+        do c = 1, contact%nc
+            free = 0.0_dp
+            total = 0.0_dp
+            do k = contact%cpl_ptr(c), contact%cpl_ptr(c + 1) - 1
+                node = contact%cpl_node(k)
+                total = total + abs(contact%cpl_a(k))
+                free(1) = free(1) + abs(contact%cpl_a(k))* &
+                          sum(abs(contact%normal(:, c)), mask=eq(:, node) > 0)
+                free(2) = free(2) + abs(contact%cpl_a(k))* &
+                          sum(abs(contact%tangent(:, c)), mask=eq(:, node) > 0)
+            end do
+            constrains(:, c) = free > 1.0e-12_dp*total
+        end do
+    end function constraining_rows
+
+    !> K plus the contact rows of the current active set, factorised.
+    subroutine factorise_contact(model, system, contact, result, context, error)
+        type(model_t), intent(in) :: model
+        type(system_t), intent(inout) :: system
+        type(contact_t), intent(in) :: contact
+        type(stage_result_t), intent(inout) :: result
+        character(len=*), intent(in) :: context
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), allocatable :: ke(:, :)
+        integer :: c, m, attempt
+        do attempt = 1, 2
+            system%values = system%k_values
+            do c = 1, contact%nc
+                m = 2*(contact%cpl_ptr(c + 1) - contact%cpl_ptr(c)) + 2
+                allocate (ke(m, m))
+                call contact_element_matrix(contact, c, &
+                                            model%contact_pairs(contact%pair(c))%friction, &
+                                            system%contact_scale, system%constrains(:, c), ke, &
+                                            system%viscous)
+                call assemble_element(system%pattern, system%values, model%mesh%nelem + c, ke)
+                deallocate (ke)
+            end do
+            call factorise_values(system, result, context, error)
+            if (.not. allocated(error)) return
+            ! Sliding everywhere, a body held by friction alone is a mechanism of the
+            ! linearised equations: regularise the slip rows and try once more.
+            if (system%viscous > 0.0_dp .or. .not. any(contact%status == contact_slip) .or. &
+                index(error%message, 'singular') == 0) return
+            system%viscous = slip_viscosity
+            result%regularised = result%regularised + 1
+            deallocate (error)
+        end do
+    end subroutine factorise_contact
+
+    !> Factorise system%values (the symbolic phase once per pattern).
+    subroutine factorise_values(system, result, context, error)
+        type(system_t), intent(inout) :: system
+        type(stage_result_t), intent(inout) :: result
+        character(len=*), intent(in) :: context
+        type(error_t), allocatable, intent(out) :: error
+        real(dp) :: t1
+        t1 = wall_seconds()
         if (.not. system%analysed) then
             ! Symbolic factorisation once per pattern (after the first assembly, so that
             ! UMFPACK sees the values it orders for).
@@ -336,8 +495,7 @@ contains
         result%stats%t_numeric = result%stats%t_numeric + (wall_seconds() - t1)
         result%stats%rcond = system%solver%rcond()
         result%factorisations = result%factorisations + 1
-        system%factorised_linear = linear
-    end subroutine factorise_at
+    end subroutine factorise_values
 
     pure logical function all_linear(model, active)
         type(model_t), intent(in) :: model
@@ -355,7 +513,9 @@ contains
 
     !> One increment to the external load `f_target`: the right-hand side is the out-of-
     !> balance force f_target - f_int(sigma_n), so that the residual left by earlier increments
-    !> is carried into this one (equilibrium correction).
+    !> is carried into this one (equilibrium correction). With contact, the geometry is
+    !> updated first (the paper's Step 6) and each solve iterates the active set; the contact
+    !> state changes only when the increment is accepted.
     subroutine solve_increment(model, library, state, system, f_target, du_prescribed, &
                                result, context, error)
         type(model_t), intent(in) :: model
@@ -370,30 +530,46 @@ contains
         real(dp), allocatable :: du(:, :), stress_end(:, :, :), stress_mid(:, :, :)
         real(dp) :: residual, load_norm, recent
         integer :: iteration
+        type(contact_t), allocatable :: contact
+        logical :: changed
 
         load_norm = max(norm2(f_target), tiny(1.0_dp))
+        system%viscous = 0.0_dp
+        if (state%has_contact) then
+            contact = state%contact
+            call contact_geometry(model, state%active, contact, changed)
+            if (changed) then
+                call new_system(model, library, state%active, system, error, contact, .true.)
+                if (allocated(error)) return
+                result%stats%neq = system%pattern%n
+                result%stats%nnz = system%pattern%nnz
+            end if
+        end if
         ! Predictor with the tangent at the start of the increment.
-        call factorise_at(model, library, state, state%stress, system, result, context, error)
+        call factorise_at(model, library, state, state%stress, system, result, context, error, &
+                          contact=contact)
         if (allocated(error)) return
         call solve_out_of_balance(model, library, state, state%stress, f_target, du_prescribed, &
-                                  system, du, result, context, error)
+                                  system, du, result, context, error, contact)
         if (allocated(error)) return
-        if (model%solver == solver_euler .or. system%factorised_linear) then
+        if (model%solver == solver_euler .or. system%factorised_linear .or. &
+            (state%has_contact .and. all_linear(model, state%active))) then
             ! Euler; or a linear law, for which the midpoint step would repeat the same solve.
             call integrate_stress(model, library, state, du, stress_end, stress_mid, .false.)
         else
             ! Midpoint: stresses half-way, the tangent there, and the increment again.
             call integrate_stress(model, library, state, 0.5_dp*du, stress_mid, stress_end, &
                                   .false.)
-            call factorise_at(model, library, state, stress_mid, system, result, context, error)
+            call factorise_at(model, library, state, stress_mid, system, result, context, &
+                              error, contact=contact)
             if (allocated(error)) return
             call solve_out_of_balance(model, library, state, state%stress, f_target, &
-                                      du_prescribed, system, du, result, context, error)
+                                      du_prescribed, system, du, result, context, error, contact)
             if (allocated(error)) return
             call integrate_stress(model, library, state, du, stress_end, stress_mid, .true.)
         end if
         residual = out_of_balance(model, library, state%active, stress_end, f_target, &
-                                  system%dofmap)/load_norm
+                                  system%dofmap, contact)/load_norm
         if (model%solver == solver_newton) then
             iteration = 0
             recent = huge(1.0_dp)
@@ -422,7 +598,7 @@ contains
                 ! The consistent tangent: the derivative of the midpoint stress update with
                 ! respect to the strain increment, by finite differences at each point.
                 call factorise_at(model, library, state, stress_mid, system, result, context, &
-                                  error, consistent_tangents(model, library, state, du))
+                                  error, consistent_tangents(model, library, state, du), contact)
                 if (allocated(error)) return
                 block
                     real(dp), allocatable :: ddu(:, :), du_try(:, :), stress_try(:, :, :)
@@ -430,19 +606,20 @@ contains
                     integer :: halving
                     call solve_out_of_balance(model, library, state, stress_end, f_target, &
                                               0.0_dp*du_prescribed, system, ddu, result, &
-                                              context, error)
+                                              context, error, contact, du)
                     if (allocated(error)) return
                     ! Backtracking line search: the E-B tangent has kinks (stress-level cap,
                     ! sigma3 floor, Poisson bounds, unloading transition) where a full
-                    ! Newton step can overshoot; halve it while the residual grows.
+                    ! Newton step can overshoot; halve it while the residual grows. Not with
+                    ! contact: the multipliers belong to the full step.
                     step = 1.0_dp
                     do halving = 0, 6
                         du_try = du + step*ddu
                         call integrate_stress(model, library, state, du_try, stress_try, &
                                               stress_mid, .true.)
                         trial = out_of_balance(model, library, state%active, stress_try, &
-                                               f_target, system%dofmap)/load_norm
-                        if (trial < residual) exit
+                                               f_target, system%dofmap, contact)/load_norm
+                        if (trial < residual .or. state%has_contact) exit
                         step = 0.5_dp*step
                     end do
                     du = du_try
@@ -460,14 +637,20 @@ contains
         state%stress = stress_end
         state%f_ext = f_target
         call accept_history(model, library, state, du)
+        if (state%has_contact) then
+            state%contact = contact
+            call contact_accept(state%contact, du)
+        end if
         result%max_residual = max(result%max_residual, residual)
     end subroutine solve_increment
 
     !> du = du_p + K^-1 (f_target - f_int(stress + D B du_p)) on the free dofs: the prescribed
     !> increment du_p moves the fixed dofs, and the forces it causes (K_fp du_p, through the
-    !> tangent at `stress`) join the out-of-balance force.
+    !> tangent at `stress`) join the out-of-balance force. With contact the multipliers are
+    !> solved with du, and the active set is iterated until it holds (primal-dual active set,
+    !> docs/theory.md section 14); `du_base` is the increment already taken (Newton).
     subroutine solve_out_of_balance(model, library, state, stress, f_target, du_p, system, &
-                                    du, result, context, error)
+                                    du, result, context, error, contact, du_base)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(in) :: state
@@ -477,9 +660,13 @@ contains
         type(stage_result_t), intent(inout) :: result
         character(len=*), intent(in) :: context
         type(error_t), allocatable, intent(out) :: error
-        real(dp), allocatable :: f_int(:, :), b(:), x(:)
+        type(contact_t), intent(inout), optional :: contact
+        real(dp), intent(in), optional :: du_base(:, :)
+        real(dp), allocatable :: f_int(:, :), b(:), x(:), known(:, :)
+        integer, allocatable :: seen(:, :)
         real(dp) :: t0
-        integer :: node, k
+        integer :: node, k, c, neq, iteration, earlier, cycling
+        logical :: changed
         allocate (f_int(2, model%mesh%nnode))
         if (any(du_p /= 0.0_dp)) then
             call internal_forces(model, library, state%active, &
@@ -487,30 +674,87 @@ contains
         else
             call internal_forces(model, library, state%active, stress, f_int)
         end if
-        allocate (b(system%dofmap%neq), x(system%dofmap%neq))
+        neq = system%dofmap%neq
+        allocate (b(system%pattern%n), x(system%pattern%n))
         do node = 1, model%mesh%nnode
             do k = 1, 2
                 if (system%dofmap%eq(k, node) > 0) b(system%dofmap%eq(k, node)) = &
                     f_target(k, node) - f_int(k, node)
             end do
         end do
-        t0 = wall_seconds()
-        call system%solver%solve(system%pattern, system%values, b, x, error)
-        if (allocated(error)) then
-            error%message = context//': '//error%message
-            return
+        if (present(contact)) then
+            known = du_p
+            if (present(du_base)) known = known + du_base
+            allocate (seen(contact%nc, contact_iteration_limit))
         end if
-        result%stats%t_solve = result%stats%t_solve + (wall_seconds() - t0)
-        if (.not. all(ieee_is_finite(x))) then
-            call fatal_error(error, context//': the solution is not finite (singular '// &
-                             'stiffness matrix?)', numerical_error)
-            return
-        end if
-        du = du_p
-        do node = 1, model%mesh%nnode
-            do k = 1, 2
-                if (system%dofmap%eq(k, node) > 0) du(k, node) = x(system%dofmap%eq(k, node))
+        iteration = 0
+        cycling = 0
+        do
+            iteration = iteration + 1
+            if (present(contact)) then
+                do c = 1, contact%nc
+                    b(neq + 2*c - 1:neq + 2*c) = merge(contact_rhs(contact, c, &
+                        system%contact_scale, known, system%viscous), 0.0_dp, &
+                        system%constrains(:, c))
+                end do
+            end if
+            t0 = wall_seconds()
+            call system%solver%solve(system%pattern, system%values, b, x, error)
+            if (allocated(error)) then
+                error%message = context//': '//error%message
+                return
+            end if
+            result%stats%t_solve = result%stats%t_solve + (wall_seconds() - t0)
+            if (.not. all(ieee_is_finite(x))) then
+                call fatal_error(error, context//': the solution is not finite (singular '// &
+                                 'stiffness matrix?)', numerical_error)
+                return
+            end if
+            du = du_p
+            do node = 1, model%mesh%nnode
+                do k = 1, 2
+                    if (system%dofmap%eq(k, node) > 0) du(k, node) = x(system%dofmap%eq(k, node))
+                end do
             end do
+            if (.not. present(contact)) exit
+            ! The active set: done when the solve left it as it was.
+            call contact_unpack(contact, x(neq + 1:), system%contact_scale)
+            if (present(du_base)) then
+                call contact_update_sets(model, contact, du_base + du, system%contact_scale, &
+                                         changed, cycling > 0)
+            else
+                call contact_update_sets(model, contact, du, system%contact_scale, changed, &
+                                         cycling > 0)
+            end if
+            result%contact_iterations = result%contact_iterations + 1
+            if (.not. changed) exit
+            seen(:, iteration) = 3*contact%status + contact%slip_sign
+            do earlier = max(1, cycling), iteration - 1
+                if (all(seen(:, earlier) == seen(:, iteration))) then
+                    ! A cycle: go on changing one node at a time (the worst first), once.
+                    if (cycling == 0) then
+                        cycling = iteration
+                        exit
+                    end if
+                    call fatal_error(error, context//': no convergence: the contact '// &
+                                     'active set cycles (iteration '//to_text(iteration)// &
+                                     ' repeats iteration '//to_text(earlier)//'; '// &
+                                     to_text(count(seen(:, earlier) /= seen(:, iteration - 1)))// &
+                                     ' slave nodes change, the first node '// &
+                                     to_text(contact%node(findloc(seen(:, earlier) /= &
+                                     seen(:, iteration - 1), .true., dim=1)))//')', &
+                                     numerical_error)
+                    return
+                end if
+            end do
+            if (iteration == contact_iteration_limit) then
+                call fatal_error(error, context//': no convergence: the contact active set '// &
+                                 'did not settle in '//to_text(iteration)//' iterations', &
+                                 numerical_error)
+                return
+            end if
+            call factorise_contact(model, system, contact, result, context, error)
+            if (allocated(error)) return
         end do
     end subroutine solve_out_of_balance
 
@@ -603,16 +847,23 @@ contains
     end function consistent_tangents
 
     !> |f_target - f_int(stress)| over the free dofs.
-    function out_of_balance(model, library, active, stress, f_target, dofmap) result(norm)
+    function out_of_balance(model, library, active, stress, f_target, dofmap, contact) &
+        result(norm)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         logical, intent(in) :: active(:)
         real(dp), intent(in) :: stress(:, :, :), f_target(:, :)
         type(dof_map_t), intent(in) :: dofmap
+        type(contact_t), intent(in), optional :: contact
         real(dp) :: norm
-        real(dp), allocatable :: f_int(:, :)
+        real(dp), allocatable :: f_int(:, :), f_contact(:, :)
         allocate (f_int(2, model%mesh%nnode))
         call internal_forces(model, library, active, stress, f_int)
+        if (present(contact)) then
+            allocate (f_contact(2, model%mesh%nnode))
+            call contact_forces(contact, f_contact)
+            f_int = f_int - f_contact
+        end if
         norm = norm2(merge(f_target - f_int, 0.0_dp, dofmap%eq > 0))
     end function out_of_balance
 
@@ -679,6 +930,16 @@ contains
             end do
             allocate (f_int(2, mesh%nnode))
             call internal_forces(model, library, state%active, state%stress, f_int)
+            if (state%has_contact) then
+                ! contact forces are internal to the model: reactions see their sum
+                block
+                    real(dp), allocatable :: f_contact(:, :)
+                    allocate (f_contact(2, mesh%nnode))
+                    call contact_forces(state%contact, f_contact)
+                    f_int = f_int - f_contact
+                end block
+                call record_contact(model, state%contact, result%contact, result%openings)
+            end if
             used = active_nodes(model, state%active)
             result%reaction = merge(f_int - state%f_ext, 0.0_dp, &
                                     model%fixed .and. spread(used, 1, 2))

@@ -15,6 +15,8 @@ module cfrd_model
     public :: interface_element_t, method_joint, method_thin, method_name
     public :: newtop_count, newtop_zero, solver_midpoint, solver_euler, solver_newton
     public :: law_name
+    public :: contact_surface_t, contact_pair_t, scheme_mortar, scheme_nts, search_linear, &
+              search_rpim, scheme_name, search_name
 
     !> Analysis types (CONTROL card, field MODEL).
     integer, parameter :: plane_strain = 1
@@ -53,6 +55,13 @@ module cfrd_model
     integer, parameter :: method_joint = 1   !! zero-thickness Goodman joint elements
     integer, parameter :: method_thin = 2    !! thin-layer solid elements (quads)
 
+    !> Contact discretisation (CONTACT PAIR cards, field SCHEME).
+    integer, parameter :: scheme_mortar = 1  !! segment-to-segment (mortar), dual multipliers
+    integer, parameter :: scheme_nts = 2     !! node-to-segment, for comparison
+    !> Contact search (field SEARCH): how the master surface is interpolated.
+    integer, parameter :: search_linear = 1  !! piecewise-linear (the element faces)
+    integer, parameter :: search_rpim = 2    !! radial point interpolation (paper Step 3)
+
     !> Group index meaning "every element" in a gravity load.
     integer, parameter :: all_groups = 0
 
@@ -87,6 +96,30 @@ module cfrd_model
         integer :: line = 0         !! interface line number
         integer :: method = method_joint
     end type interface_element_t
+
+    !> A contact surface (CONTACT SURFACE cards): element faces, face k running from node k
+    !> to node k+1 of the element (counter-clockwise, so the body lies on its left).
+    type :: contact_surface_t
+        character(len=10) :: name = ''
+        integer, allocatable :: element(:)
+        integer, allocatable :: face(:)
+    end type contact_surface_t
+
+    !> A contact pair (a CONTACT PAIR card): the slave surface's nodes carry the Lagrange
+    !> multipliers (contact tractions), the master surface is searched (docs/theory.md
+    !> section 14).
+    type :: contact_pair_t
+        integer :: slave = 0                 !! index into model%surfaces
+        integer :: master = 0                !! index into model%surfaces
+        real(dp) :: friction = 0.0_dp        !! Coulomb coefficient mu (eq. 16)
+        real(dp) :: tolerance = 0.0_dp       !! closure distance TOL, m (eq. 15)
+        integer :: scheme = scheme_mortar
+        integer :: search = search_linear
+        !> Cast in place: the gap a slave node has when it is placed counts as closed
+        !> (a slab cast on the cushion starts in contact wherever it is placed).
+        logical :: cast = .false.
+        integer :: line = 0                  !! deck line, for messages
+    end type contact_pair_t
 
     !> Nodes and elements. Triangles are degenerate quads with conn(4,e) == conn(3,e).
     type :: mesh_t
@@ -177,6 +210,9 @@ module cfrd_model
         !> INTERFACE cards: the interface elements in line order
         type(interface_element_t), allocatable :: interfaces(:)
         integer, allocatable :: slab_groups(:)          !! SLAB cards: element groups
+        !> CONTACT cards: surfaces and the pairs between them (none: no contact at all)
+        type(contact_surface_t), allocatable :: surfaces(:)
+        type(contact_pair_t), allocatable :: contact_pairs(:)
         !> Warnings of the deck reader (the run goes on; printed and listed)
         character(len=300), allocatable :: warnings(:)
         integer :: newtop = newtop_zero
@@ -216,6 +252,20 @@ contains
         name = merge('JOINT', 'THIN ', method == method_joint)
         name = trim(name)
     end function method_name
+
+    !> The deck keyword of a contact scheme.
+    pure function scheme_name(scheme) result(name)
+        integer, intent(in) :: scheme
+        character(len=:), allocatable :: name
+        name = trim(merge('MORTAR', 'NTS   ', scheme == scheme_mortar))
+    end function scheme_name
+
+    !> The deck keyword of a contact search.
+    pure function search_name(search) result(name)
+        integer, intent(in) :: search
+        character(len=:), allocatable :: name
+        name = trim(merge('LINEAR', 'RPIM  ', search == search_linear))
+    end function search_name
 
     !> The deck keyword of a stage kind.
     pure function stage_kind_name(kind) result(name)

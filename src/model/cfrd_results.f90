@@ -6,7 +6,7 @@ module cfrd_results
     private
 
     public :: stage_result_t, results_t, solver_stats_t
-    public :: interface_result_t, opening_t, slab_result_t
+    public :: interface_result_t, opening_t, slab_result_t, contact_result_t
 
     !> Figures of the linear solves, for the listing and the benchmark.
     type :: solver_stats_t
@@ -32,6 +32,19 @@ module cfrd_results
         real(dp), allocatable :: du_s(:, :)           !! (2, ninterface) m, slip along t
         logical, allocatable :: active(:)             !! (ninterface)
     end type interface_result_t
+
+    !> At the slave nodes of the contact pairs (docs/theory.md section 14), in the order of
+    !> the CONTACT SURFACE cards: status (0 open, 1 stick, 2 slip), gap (m, + open), slip
+    !> accumulated along t (the slave normal turned counter-clockwise), and the contact
+    !> tractions sigma_n (kPa, tension + so <= 0) and tau (kPa, on the slave along t).
+    type :: contact_result_t
+        integer, allocatable :: node(:), pair(:), status(:)     !! (ncontact)
+        logical, allocatable :: placed(:)                       !! (ncontact) its face active
+        real(dp), allocatable :: x(:), y(:)                     !! (ncontact) m, as meshed
+        real(dp), allocatable :: s(:)                           !! (ncontact) m along the surface
+        real(dp), allocatable :: gap(:), slip(:)                !! (ncontact) m
+        real(dp), allocatable :: sigma_n(:), tau(:)             !! (ncontact) kPa
+    end type contact_result_t
 
     !> The opening of one slab phase (the interface elements of one group on one line):
     !> width = largest relative normal displacement, depth = down-slope length of the
@@ -76,6 +89,9 @@ module cfrd_results
         integer :: factorisations = 0              !! numeric factorisations in the stage
         integer :: iterations = 0                  !! Newton iterations in the stage
         integer :: cutbacks = 0                    !! increments halved after no convergence
+        integer :: contact_iterations = 0          !! contact active-set solves in the stage
+        !> factorisations whose slip rows were regularised (a body sliding everywhere)
+        integer :: regularised = 0
         real(dp) :: max_residual = 0.0_dp          !! largest |residual| / |load| after an increment
         real(dp) :: wall_time = 0.0_dp             !! s
         logical, allocatable :: active(:)          !! (nelem) element active at the stage's end
@@ -99,6 +115,7 @@ module cfrd_results
         type(interface_result_t) :: interface        !! along the interface elements
         type(opening_t), allocatable :: openings(:)   !! per line and slab phase
         type(slab_result_t) :: slab                   !! along the face slab
+        type(contact_result_t) :: contact             !! at the contact pairs' slave nodes
         real(dp) :: applied_load(2) = 0.0_dp          !! sum of applied forces, kN/m
         real(dp) :: reaction_sum(2) = 0.0_dp          !! sum of reactions, kN/m
         type(solver_stats_t) :: stats

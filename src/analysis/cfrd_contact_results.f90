@@ -1,0 +1,107 @@
+!> What a stage's contact state means to a dam engineer: the tractions, gaps and slips at the
+!> slave nodes, and the opening of each slab phase measured directly as the gap (paper
+!> Table 5, contact row; docs/theory.md section 14).
+module cfrd_contact_results
+    use cfrd_kinds, only: dp
+    use cfrd_model, only: model_t
+    use cfrd_results, only: contact_result_t, opening_t
+    use cfrd_contact, only: contact_t, contact_open
+    implicit none
+    private
+
+    public :: record_contact, contact_openings, open_gap_limit
+
+    !> A slave node counts as separated when it is open with a gap above this (m).
+    real(dp), parameter :: open_gap_limit = 1.0e-6_dp
+
+contains
+
+    !> The contact results of the current state, and the openings per pair and slab phase.
+    subroutine record_contact(model, contact, result, openings)
+        type(model_t), intent(in) :: model
+        type(contact_t), intent(in) :: contact
+        type(contact_result_t), intent(out) :: result
+        type(opening_t), allocatable, intent(inout) :: openings(:)
+        result%node = contact%node
+        result%pair = contact%pair
+        result%status = contact%status
+        result%placed = contact%placed
+        result%x = model%mesh%x(1, contact%node)
+        result%y = model%mesh%x(2, contact%node)
+        result%s = contact%s
+        result%gap = merge(contact%gap, 0.0_dp, contact%placed)
+        result%slip = contact%slip
+        result%sigma_n = -contact%p
+        result%tau = contact%q
+        call contact_openings(model, contact, result, openings)
+    end subroutine record_contact
+
+    !> The opening of each slab phase of each pair: the slave segments of one element group
+    !> (the group that places the slab phase). Width = the largest gap; depth = the length
+    !> along the surface from the phase's top end (its highest node) down to the first node
+    !> that is not separated (the gap is zero there and positive all the way above it).
+    subroutine contact_openings(model, contact, result, openings)
+        type(model_t), intent(in) :: model
+        type(contact_t), intent(in) :: contact
+        type(contact_result_t), intent(in) :: result
+        type(opening_t), allocatable, intent(inout) :: openings(:)
+        logical, allocatable :: member(:)
+        integer, allocatable :: order(:)
+        integer :: ip, g, k, top, i, c
+        type(opening_t) :: opening
+        if (.not. allocated(openings)) allocate (openings(0))
+        allocate (member(contact%nc))
+        do ip = 1, size(model%contact_pairs)
+            do g = 0, size(model%mesh%group_name)
+                member = .false.
+                do k = 1, size(contact%seg, 2)
+                    if (contact%pair(contact%seg(1, k)) /= ip) cycle
+                    if (model%mesh%group(contact%seg_element(k)) /= g) cycle
+                    member(contact%seg(:, k)) = .true.
+                end do
+                if (.not. any(member)) cycle
+                opening = opening_t(line=ip, group=g)
+                order = pack([(c, c=1, contact%nc)], member)
+                call sort_by_s(order)
+                top = order(size(order))
+                opening%top = model%mesh%x(:, contact%node(top))
+                opening%length = contact%s(top) - contact%s(order(1))
+                if (any(contact%placed(order))) then
+                    opening%width = max(0.0_dp, maxval(result%gap(order), &
+                                                       mask=contact%placed(order)))
+                    opening%max_compression = min(0.0_dp, minval(result%sigma_n(order)))
+                    do i = size(order), 1, -1
+                        c = order(i)
+                        if (separated(c)) cycle
+                        exit
+                    end do
+                    if (i < size(order)) then
+                        opening%depth = contact%s(top) - contact%s(order(max(i, 1)))
+                    end if
+                end if
+                openings = [openings, opening]
+            end do
+        end do
+    contains
+        pure logical function separated(c)
+            integer, intent(in) :: c
+            separated = contact%placed(c) .and. contact%status(c) == contact_open .and. &
+                        result%gap(c) > open_gap_limit
+        end function separated
+
+        subroutine sort_by_s(list)
+            integer, intent(inout) :: list(:)
+            integer :: a, b, key
+            do a = 2, size(list)
+                key = list(a)
+                b = a - 1
+                do while (b >= 1)
+                    if (contact%s(list(b)) <= contact%s(key)) exit
+                    list(b + 1) = list(b)
+                    b = b - 1
+                end do
+                list(b + 1) = key
+            end do
+        end subroutine sort_by_s
+    end subroutine contact_openings
+end module cfrd_contact_results

@@ -1,0 +1,695 @@
+!> Contact between independent bodies (paper section 2.4, eqs. 11-17; docs/theory.md
+!> section 14): slave and master surfaces of element faces, the global search (bucket grid
+!> over the master segments, coordinates updated every increment so that slip may be large),
+!> segment-to-segment (mortar) or node-to-segment coupling, Lagrange multipliers (the
+!> contact tractions p, q at the slave nodes, eqs. 13-14) and Coulomb friction (eq. 16) with a
+!> primal-dual active set: open, stick or slip per slave node.
+!>
+!> Each slave node c is a "contact element" of the global system: its coupling list
+!> (nodes i, coefficients a_ci: +D for slave nodes, -M for master nodes) gives the weighted
+!> gap g_c(v) = g_c - n_c . sum_i a_ci v_i and the weighted slip s_c(v) = t_c . sum_i a_ci v_i
+!> of a displacement increment v, and the forces -a_ci (p_c n_c - q_c t_c) on its nodes.
+!> Its two multiplier equations are numbered after the displacement equations.
+module cfrd_contact
+    use cfrd_kinds, only: dp
+    use cfrd_model, only: model_t, scheme_nts
+    use cfrd_mortar, only: face_normal, mortar_segment_pair, project_node
+    use cfrd_bucket_search, only: bucket_grid_t, build_grid, query_grid
+    implicit none
+    private
+
+    public :: contact_t, new_contact, contact_geometry, contact_element_dofs
+    public :: contact_element_matrix, contact_rhs, contact_unpack, contact_update_sets
+    public :: contact_forces, contact_accept, contact_open, contact_stick, contact_slip
+    public :: contact_status_name, contact_iteration_limit
+
+    integer, parameter :: contact_open = 0    !! not in contact (or not placed / unsupported)
+    integer, parameter :: contact_stick = 1   !! closed, no slip
+    integer, parameter :: contact_slip = 2    !! closed, sliding at the Coulomb limit
+    !> Active-set iterations per solve before giving up (the stage driver then cuts back).
+    integer, parameter :: contact_iteration_limit = 40
+    logical, parameter :: hold_while_normal_changes = .false.
+
+    !> The contact state and the geometry of the current increment.
+    type :: contact_t
+        integer :: nc = 0                          !! slave (contact) nodes of all pairs
+        integer, allocatable :: node(:)            !! (nc) mesh node
+        integer, allocatable :: pair(:)            !! (nc) contact pair
+        integer, allocatable :: group(:)           !! (nc) element group of its slave face
+        real(dp), allocatable :: s(:)              !! (nc) m, along the slave surface
+        !> slave segments: contact nodes (2, ns), element, pair
+        integer, allocatable :: seg(:, :), seg_element(:)
+        !> master segments: mesh nodes (2, nm), element, pair
+        integer, allocatable :: mseg(:, :), mseg_element(:), mseg_pair(:)
+        ! State (kept from increment to increment)
+        logical, allocatable :: placed(:)          !! (nc) some slave face of it is active
+        integer, allocatable :: status(:)          !! (nc) contact_open, _stick, _slip
+        integer, allocatable :: slip_sign(:)       !! (nc) +-1 in slip (q = mu p sign)
+        real(dp), allocatable :: p(:)              !! (nc) kPa, normal pressure (+ compression)
+        real(dp), allocatable :: q(:)              !! (nc) kPa, shear traction on the slave along t
+        real(dp), allocatable :: g0(:)             !! (nc) m, gap taken as closed at placement
+        real(dp), allocatable :: gap(:)            !! (nc) m, gap at the last accepted state
+        real(dp), allocatable :: slip(:)           !! (nc) m, accumulated slip along t
+        real(dp), allocatable :: u(:, :)           !! (2, nnode) m since placement, never reset
+        ! Geometry of the current increment (contact_geometry)
+        logical, allocatable :: supported(:)       !! (nc) coupled to the master surface
+        real(dp), allocatable :: normal(:, :)      !! (2, nc) outward normal of the slave
+        real(dp), allocatable :: tangent(:, :)     !! (2, nc) normal turned counter-clockwise
+        real(dp), allocatable :: w(:)              !! (nc) m, sum_l D_cl
+        real(dp), allocatable :: wref(:)           !! (nc) m, tributary length
+        real(dp), allocatable :: g(:)              !! (nc) m*m, weighted gap at the start
+        integer, allocatable :: cpl_ptr(:)         !! (nc + 1)
+        integer, allocatable :: cpl_node(:)
+        real(dp), allocatable :: cpl_a(:)
+    end type contact_t
+
+contains
+
+    pure function contact_status_name(status) result(name)
+        integer, intent(in) :: status
+        character(len=5) :: name
+        select case (status)
+        case (contact_stick)
+            name = 'stick'
+        case (contact_slip)
+            name = 'slip'
+        case default
+            name = 'open'
+        end select
+    end function contact_status_name
+
+    !> Slave nodes, slave and master segments of every pair of the model; the state at rest.
+    subroutine new_contact(model, contact)
+        type(model_t), intent(in) :: model
+        type(contact_t), intent(out) :: contact
+        integer, allocatable :: index_of(:)
+        integer :: ip, k, e, f, a, b, ns, nm, nc
+        associate (mesh => model%mesh)
+            allocate (index_of(mesh%nnode))
+            allocate (contact%node(0), contact%pair(0), contact%group(0))
+            ns = 0
+            nm = 0
+            do ip = 1, size(model%contact_pairs)
+                ns = ns + size(model%surfaces(model%contact_pairs(ip)%slave)%element)
+                nm = nm + size(model%surfaces(model%contact_pairs(ip)%master)%element)
+            end do
+            allocate (contact%seg(2, ns), contact%seg_element(ns))
+            allocate (contact%mseg(2, nm), contact%mseg_element(nm), contact%mseg_pair(nm))
+            ns = 0
+            nm = 0
+            do ip = 1, size(model%contact_pairs)
+                index_of = 0
+                associate (slave => model%surfaces(model%contact_pairs(ip)%slave), &
+                           master => model%surfaces(model%contact_pairs(ip)%master))
+                    do k = 1, size(slave%element)
+                        e = slave%element(k)
+                        f = slave%face(k)
+                        a = mesh%conn(f, e)
+                        b = mesh%conn(mod(f, 4) + 1, e)
+                        ns = ns + 1
+                        contact%seg(:, ns) = [slave_index(a), slave_index(b)]
+                        contact%seg_element(ns) = e
+                    end do
+                    do k = 1, size(master%element)
+                        e = master%element(k)
+                        f = master%face(k)
+                        nm = nm + 1
+                        contact%mseg(:, nm) = [mesh%conn(f, e), mesh%conn(mod(f, 4) + 1, e)]
+                        contact%mseg_element(nm) = e
+                        contact%mseg_pair(nm) = ip
+                    end do
+                end associate
+            end do
+        end associate
+        nc = size(contact%node)
+        contact%nc = nc
+        allocate (contact%placed(nc), source=.false.)
+        allocate (contact%status(nc), contact%slip_sign(nc), source=contact_open)
+        allocate (contact%p(nc), contact%q(nc), contact%g0(nc), contact%gap(nc), &
+                  contact%slip(nc), source=0.0_dp)
+        allocate (contact%u(2, model%mesh%nnode), source=0.0_dp)
+        allocate (contact%supported(nc), source=.false.)
+        allocate (contact%normal(2, nc), contact%tangent(2, nc), source=0.0_dp)
+        allocate (contact%w(nc), contact%wref(nc), contact%g(nc), source=0.0_dp)
+        allocate (contact%cpl_ptr(nc + 1), source=1)
+        allocate (contact%cpl_node(0), contact%cpl_a(0))
+        contact%s = arc_lengths(model, contact)
+    contains
+        !> The contact node of mesh node `node` in the current pair, made on first sight.
+        integer function slave_index(node)
+            integer, intent(in) :: node
+            if (index_of(node) == 0) then
+                contact%node = [contact%node, node]
+                contact%pair = [contact%pair, ip]
+                contact%group = [contact%group, model%mesh%group(e)]
+                index_of(node) = size(contact%node)
+            end if
+            slave_index = index_of(node)
+        end function slave_index
+    end subroutine new_contact
+
+    !> Distance of each slave node along its surface: the segments are chained, each chain
+    !> measured from its end with the lowest y (then x), chains of a pair one after another.
+    function arc_lengths(model, contact) result(s)
+        type(model_t), intent(in) :: model
+        type(contact_t), intent(in) :: contact
+        real(dp), allocatable :: s(:)
+        integer, allocatable :: nseg(:), next(:, :)
+        logical, allocatable :: done(:)
+        integer :: k, c, start, from, prev, seg_next
+        real(dp) :: offset
+        allocate (s(contact%nc), source=0.0_dp)
+        allocate (nseg(contact%nc), source=0)
+        allocate (next(2, contact%nc), source=0)
+        allocate (done(contact%nc), source=.false.)
+        do k = 1, size(contact%seg, 2)
+            do c = 1, 2
+                nseg(contact%seg(c, k)) = nseg(contact%seg(c, k)) + 1
+                if (nseg(contact%seg(c, k)) <= 2) next(nseg(contact%seg(c, k)), &
+                                                       contact%seg(c, k)) = k
+            end do
+        end do
+        offset = 0.0_dp
+        do
+            ! the lowest unvisited chain end (or any unvisited node of a closed loop)
+            start = 0
+            do c = 1, contact%nc
+                if (done(c)) cycle
+                if (start == 0) then
+                    start = c
+                else if (nseg(c) < nseg(start) .or. (nseg(c) == nseg(start) .and. &
+                         lower(model%mesh%x(:, contact%node(c)), &
+                               model%mesh%x(:, contact%node(start))))) then
+                    start = c
+                end if
+            end do
+            if (start == 0) exit
+            from = start
+            prev = 0
+            s(from) = offset
+            done(from) = .true.
+            do
+                seg_next = 0
+                do k = 1, 2
+                    if (next(k, from) /= 0 .and. next(k, from) /= prev) then
+                        c = other_end(next(k, from), from)
+                        if (.not. done(c)) then
+                            seg_next = next(k, from)
+                            exit
+                        end if
+                    end if
+                end do
+                if (seg_next == 0) exit
+                c = other_end(seg_next, from)
+                s(c) = s(from) + norm2(model%mesh%x(:, contact%node(c)) - &
+                                       model%mesh%x(:, contact%node(from)))
+                done(c) = .true.
+                prev = seg_next
+                from = c
+            end do
+            offset = maxval(s, mask=done)
+        end do
+    contains
+        pure logical function lower(xa, xb)
+            real(dp), intent(in) :: xa(2), xb(2)
+            lower = xa(2) < xb(2) .or. (xa(2) == xb(2) .and. xa(1) < xb(1))
+        end function lower
+        pure integer function other_end(k, c)
+            integer, intent(in) :: k, c
+            other_end = merge(contact%seg(2, k), contact%seg(1, k), contact%seg(1, k) == c)
+        end function other_end
+    end function arc_lengths
+
+    !> The geometry of the coming increment at the current coordinates x + u (Steps 3-4 and 6
+    !> of the paper's search): nodal normals, couplings, weighted gaps; nodes placed since the
+    !> last call (a cast pair: their gap counts as closed), and the closure tolerance applied to
+    !> open nodes as the first guess of the active set. `changed` when the coupling lists (the
+    !> sparse pattern) differ from the last call's.
+    subroutine contact_geometry(model, active, contact, changed)
+        type(model_t), intent(in) :: model
+        logical, intent(in) :: active(:)
+        type(contact_t), intent(inout) :: contact
+        logical, intent(out) :: changed
+        real(dp), allocatable :: x(:, :), boxes(:, :), ta(:)
+        integer, allocatable :: tc(:), tn(:), old_ptr(:), old_node(:), found(:), marker(:)
+        logical, allocatable :: seg_on(:), mseg_on(:), was_placed(:)
+        type(bucket_grid_t) :: grid
+        real(dp) :: n_seg(2), radius, cell, d(2, 2), m(2, 2), covered, box(4), lmax
+        integer :: k, c, j, l, kk, km, nt, nfound, stamp, ip
+        associate (mesh => model%mesh)
+            x = mesh%x + contact%u
+            seg_on = active(contact%seg_element)
+            mseg_on = active(contact%mseg_element)
+            was_placed = contact%placed
+            contact%placed = .false.
+            contact%normal = 0.0_dp
+            contact%wref = 0.0_dp
+            lmax = 0.0_dp
+            do k = 1, size(contact%seg, 2)
+                if (.not. seg_on(k)) cycle
+                associate (xa => x(:, contact%node(contact%seg(1, k))), &
+                           xb => x(:, contact%node(contact%seg(2, k))))
+                    n_seg = face_normal(xa, xb)
+                    lmax = max(lmax, norm2(xb - xa))
+                    do j = 1, 2
+                        c = contact%seg(j, k)
+                        contact%placed(c) = .true.
+                        contact%normal(:, c) = contact%normal(:, c) + n_seg
+                        contact%wref(c) = contact%wref(c) + 0.5_dp*norm2(xb - xa)
+                    end do
+                end associate
+            end do
+            do c = 1, contact%nc
+                if (contact%placed(c)) contact%normal(:, c) = contact%normal(:, c)/ &
+                    max(norm2(contact%normal(:, c)), tiny(1.0_dp))
+            end do
+            contact%tangent(1, :) = -contact%normal(2, :)
+            contact%tangent(2, :) = contact%normal(1, :)
+            ! The master segments in a bucket grid.
+            allocate (boxes(4, size(contact%mseg, 2)))
+            do k = 1, size(contact%mseg, 2)
+                associate (xc => x(:, contact%mseg(1, k)), xd => x(:, contact%mseg(2, k)))
+                    boxes(:, k) = [min(xc(1), xd(1)), min(xc(2), xd(2)), &
+                                   max(xc(1), xd(1)), max(xc(2), xd(2))]
+                    if (mseg_on(k)) lmax = max(lmax, norm2(xd - xc))
+                end associate
+            end do
+            cell = max(lmax, tiny(1.0_dp))
+            call build_grid(grid, boxes, cell)
+            ! Search radius: two of the longest segments (the gap at which a surface is
+            ! coupled at all; closer points are resolved by the active set).
+            radius = 2.0_dp*lmax
+            allocate (marker(size(contact%mseg, 2)), source=0)
+            allocate (found(size(contact%mseg, 2)))
+            allocate (tc(0), tn(0), ta(0))
+            nt = 0
+            stamp = 0
+            contact%w = 0.0_dp
+            call segment_to_segment()
+            call node_to_segment()
+            old_ptr = contact%cpl_ptr
+            old_node = contact%cpl_node
+            call gather_couplings()
+            changed = size(old_node) /= size(contact%cpl_node)
+            if (.not. changed) changed = any(old_ptr /= contact%cpl_ptr) .or. &
+                                         any(old_node /= contact%cpl_node)
+            ! Weighted gaps at the start, the supported nodes, the first guess.
+            do c = 1, contact%nc
+                contact%g(c) = 0.0_dp
+                do kk = contact%cpl_ptr(c), contact%cpl_ptr(c + 1) - 1
+                    contact%g(c) = contact%g(c) - contact%cpl_a(kk)* &
+                                   dot_product(contact%normal(:, c), x(:, contact%cpl_node(kk)))
+                end do
+                contact%supported(c) = contact%placed(c) .and. &
+                                       contact%w(c) > 1.0e-6_dp*contact%wref(c)
+                if (.not. contact%supported(c)) then
+                    call open_node(c)
+                    cycle
+                end if
+                ip = contact%pair(c)
+                if (.not. was_placed(c)) then
+                    contact%g0(c) = 0.0_dp
+                    if (model%contact_pairs(ip)%cast) contact%g0(c) = contact%g(c)/contact%w(c)
+                    contact%gap(c) = contact%g(c)/contact%w(c) - contact%g0(c)
+                end if
+                contact%g(c) = contact%g(c) - contact%w(c)*contact%g0(c)
+                ! (a gap of round-off size, 1e-10 of the node's length, counts as closed)
+                if (contact%status(c) == contact_open .and. contact%g(c)/contact%w(c) <= &
+                    model%contact_pairs(ip)%tolerance + 1.0e-10_dp*contact%wref(c)) &
+                    contact%status(c) = contact_stick
+            end do
+        end associate
+    contains
+        subroutine open_node(c)
+            integer, intent(in) :: c
+            contact%status(c) = contact_open
+            contact%slip_sign(c) = 0
+            contact%p(c) = 0.0_dp
+            contact%q(c) = 0.0_dp
+        end subroutine open_node
+
+        subroutine add(c, node, a)
+            integer, intent(in) :: c, node
+            real(dp), intent(in) :: a
+            nt = nt + 1
+            if (nt > size(tc)) then
+                tc = [tc, [(0, kk = 1, nt + 16)]]
+                tn = [tn, [(0, kk = 1, nt + 16)]]
+                ta = [ta, [(0.0_dp, kk = 1, nt + 16)]]
+            end if
+            tc(nt) = c
+            tn(nt) = node
+            ta(nt) = a
+        end subroutine add
+
+        !> Mortar: every active slave segment against the facing master segments near it.
+        subroutine segment_to_segment()
+            do k = 1, size(contact%seg, 2)
+                if (.not. seg_on(k)) cycle
+                ip = contact%pair(contact%seg(1, k))
+                if (model%contact_pairs(ip)%scheme == scheme_nts) cycle
+                associate (xa => x(:, contact%node(contact%seg(1, k))), &
+                           xb => x(:, contact%node(contact%seg(2, k))))
+                    n_seg = face_normal(xa, xb)
+                    box = [min(xa(1), xb(1)) - radius, min(xa(2), xb(2)) - radius, &
+                           max(xa(1), xb(1)) + radius, max(xa(2), xb(2)) + radius]
+                    stamp = stamp + 1
+                    call query_grid(grid, box, stamp, marker, found, nfound)
+                    do kk = 1, nfound
+                        km = found(kk)
+                        if (.not. mseg_on(km)) cycle
+                        if (contact%mseg_pair(km) /= contact%pair(contact%seg(1, k))) cycle
+                        associate (xc => x(:, contact%mseg(1, km)), &
+                                   xd => x(:, contact%mseg(2, km)))
+                            ! facing, and within the search radius across
+                            if (dot_product(face_normal(xc, xd), n_seg) >= 0.0_dp) cycle
+                            if (min(abs(dot_product(xc - xa, n_seg)), &
+                                    abs(dot_product(xd - xa, n_seg))) > radius) cycle
+                            call mortar_segment_pair(xa, xb, xc, xd, d, m, covered)
+                        end associate
+                        if (covered <= 0.0_dp) cycle
+                        do j = 1, 2
+                            contact%w(contact%seg(j, k)) = contact%w(contact%seg(j, k)) + &
+                                                           sum(d(j, :))
+                            do l = 1, 2
+                                call add(contact%seg(j, k), contact%node(contact%seg(l, k)), &
+                                         d(j, l))
+                                call add(contact%seg(j, k), contact%mseg(l, km), -m(j, l))
+                            end do
+                        end do
+                    end do
+                end associate
+            end do
+        end subroutine segment_to_segment
+
+        !> Node-to-segment: each slave node against the nearest master point straight across
+        !> it along its normal, weighted by its tributary length.
+        subroutine node_to_segment()
+            real(dp) :: lambda, distance, best, best_lambda
+            logical :: hit
+            integer :: best_k
+            do c = 1, contact%nc
+                if (.not. contact%placed(c)) cycle
+                if (model%contact_pairs(contact%pair(c))%scheme /= scheme_nts) cycle
+                associate (xs => x(:, contact%node(c)), n => contact%normal(:, c))
+                    box = [xs(1) - radius, xs(2) - radius, xs(1) + radius, xs(2) + radius]
+                    stamp = stamp + 1
+                    call query_grid(grid, box, stamp, marker, found, nfound)
+                    best = huge(1.0_dp)
+                    best_k = 0
+                    best_lambda = 0.0_dp
+                    do kk = 1, nfound
+                        km = found(kk)
+                        if (.not. mseg_on(km)) cycle
+                        if (contact%mseg_pair(km) /= contact%pair(c)) cycle
+                        associate (xc => x(:, contact%mseg(1, km)), &
+                                   xd => x(:, contact%mseg(2, km)))
+                            if (dot_product(face_normal(xc, xd), n) >= 0.0_dp) cycle
+                            call project_node(xs, n, xc, xd, lambda, distance, hit)
+                        end associate
+                        if (.not. hit .or. abs(distance) > radius) cycle
+                        if (abs(distance) < best) then
+                            best = abs(distance)
+                            best_k = km
+                            best_lambda = lambda
+                        end if
+                    end do
+                end associate
+                if (best_k == 0) cycle
+                contact%w(c) = contact%wref(c)
+                call add(c, contact%node(c), contact%wref(c))
+                call add(c, contact%mseg(1, best_k), -contact%wref(c)*(1.0_dp - best_lambda))
+                call add(c, contact%mseg(2, best_k), -contact%wref(c)*best_lambda)
+            end do
+        end subroutine node_to_segment
+
+        !> The triplets (c, node, a) summed into each contact node's coupling list, nodes in
+        !> ascending order; w(c) = the sum of its slave coefficients.
+        subroutine gather_couplings()
+            integer, allocatable :: count(:), order(:), slot(:)
+            integer :: t, pos
+            allocate (count(contact%nc + 1), source=0)
+            do t = 1, nt
+                count(tc(t) + 1) = count(tc(t) + 1) + 1
+            end do
+            count(1) = 1
+            do c = 1, contact%nc
+                count(c + 1) = count(c + 1) + count(c)
+            end do
+            allocate (order(nt), slot(contact%nc))
+            slot = count(1:contact%nc)
+            do t = 1, nt
+                order(slot(tc(t))) = t
+                slot(tc(t)) = slot(tc(t)) + 1
+            end do
+            deallocate (contact%cpl_node, contact%cpl_a)
+            allocate (contact%cpl_node(nt), contact%cpl_a(nt))
+            contact%cpl_ptr(1) = 1
+            pos = 0
+            do c = 1, contact%nc
+                do kk = count(c), count(c + 1) - 1
+                    t = order(kk)
+                    ! merge with an entry of the same node already in c's list
+                    do j = contact%cpl_ptr(c), pos
+                        if (contact%cpl_node(j) == tn(t)) exit
+                    end do
+                    if (j > pos) then
+                        pos = pos + 1
+                        contact%cpl_node(pos) = tn(t)
+                        contact%cpl_a(pos) = 0.0_dp
+                        j = pos
+                    end if
+                    contact%cpl_a(j) = contact%cpl_a(j) + ta(t)
+                end do
+                call sort_pairs(contact%cpl_node(contact%cpl_ptr(c):pos), &
+                                contact%cpl_a(contact%cpl_ptr(c):pos))
+                contact%cpl_ptr(c + 1) = pos + 1
+            end do
+            contact%cpl_node = contact%cpl_node(1:pos)
+            contact%cpl_a = contact%cpl_a(1:pos)
+        end subroutine gather_couplings
+    end subroutine contact_geometry
+
+    !> Sort a short list of nodes ascending, carrying their coefficients.
+    pure subroutine sort_pairs(nodes, a)
+        integer, intent(inout) :: nodes(:)
+        real(dp), intent(inout) :: a(:)
+        integer :: i, j, key
+        real(dp) :: value
+        do i = 2, size(nodes)
+            key = nodes(i)
+            value = a(i)
+            j = i - 1
+            do while (j >= 1)
+                if (nodes(j) <= key) exit
+                nodes(j + 1) = nodes(j)
+                a(j + 1) = a(j)
+                j = j - 1
+            end do
+            nodes(j + 1) = key
+            a(j + 1) = value
+        end do
+    end subroutine sort_pairs
+
+    !> Equation numbers of contact element c: its coupled nodes' dofs (eq(2, nnode), 0 when
+    !> prescribed) and its multipliers p, q at neq_u + 2c - 1, neq_u + 2c.
+    pure function contact_element_dofs(contact, c, eq, neq_u) result(dofs)
+        type(contact_t), intent(in) :: contact
+        integer, intent(in) :: c, eq(:, :), neq_u
+        integer, allocatable :: dofs(:)
+        integer :: k, m
+        m = contact%cpl_ptr(c + 1) - contact%cpl_ptr(c)
+        allocate (dofs(2*m + 2))
+        do k = 1, m
+            dofs(2*k - 1:2*k) = eq(:, contact%cpl_node(contact%cpl_ptr(c) + k - 1))
+        end do
+        dofs(2*m + 1:2*m + 2) = [neq_u + 2*c - 1, neq_u + 2*c]
+    end function contact_element_dofs
+
+    !> The matrix of contact element c for its current status (docs/theory.md section 14):
+    !> columns of p and q carry the contact forces, the rows the constraints (closed: zero gap;
+    !> stick: zero slip; slip: q = mu p sign; open: p = q = 0). Multipliers are scaled by
+    !> `scale` (a stiffness per length) so that all entries are of the size of K's.
+    pure subroutine contact_element_matrix(contact, c, mu, scale, constrains, ke, viscous)
+        type(contact_t), intent(in) :: contact
+        integer, intent(in) :: c
+        real(dp), intent(in) :: mu, scale
+        !> slip rows: q = mu p sign - viscous c_n slip (a regularisation, 0 unless a body held
+        !> by friction alone slips everywhere and the matrix is singular)
+        real(dp), intent(in) :: viscous
+        !> the normal / tangential row reaches a free dof (else it is left out: p or q = 0)
+        logical, intent(in) :: constrains(2)
+        real(dp), intent(out) :: ke(:, :)
+        integer :: k, m, kp, kq
+        logical :: regularised
+        real(dp) :: a, diag
+        logical :: normal_row, tangential_row
+        m = contact%cpl_ptr(c + 1) - contact%cpl_ptr(c)
+        kp = 2*m + 1
+        kq = 2*m + 2
+        ke = 0.0_dp
+        diag = scale*max(contact%wref(c), tiny(1.0_dp))
+        normal_row = contact%status(c) /= contact_open .and. constrains(1)
+        tangential_row = contact%status(c) == contact_stick .and. constrains(2)
+        regularised = contact%status(c) == contact_slip .and. constrains(2) .and. viscous > 0
+        do k = 1, m
+            a = scale*contact%cpl_a(contact%cpl_ptr(c) + k - 1)
+            ke(2*k - 1:2*k, kp) = a*contact%normal(:, c)
+            ke(2*k - 1:2*k, kq) = -a*contact%tangent(:, c)
+            if (normal_row) ke(kp, 2*k - 1:2*k) = a*contact%normal(:, c)
+            if (tangential_row) ke(kq, 2*k - 1:2*k) = -a*contact%tangent(:, c)
+            if (regularised) ke(kq, 2*k - 1:2*k) = viscous*a/contact%w(c)*contact%tangent(:, c)
+        end do
+        if (.not. normal_row) ke(kp, kp) = diag
+        if (.not. tangential_row) then
+            ke(kq, kq) = diag
+            if (contact%status(c) == contact_slip .and. constrains(2)) &
+                ke(kq, kp) = -mu*contact%slip_sign(c)*diag
+        end if
+    end subroutine contact_element_matrix
+
+    !> Right-hand sides of contact element c's two rows, with the displacement increment
+    !> `known` (2, nnode) already taken (earlier corrections, prescribed values).
+    pure function contact_rhs(contact, c, scale, known, viscous) result(b)
+        type(contact_t), intent(in) :: contact
+        integer, intent(in) :: c
+        real(dp), intent(in) :: scale, known(:, :), viscous
+        real(dp) :: b(2), v(2)
+        b = 0.0_dp
+        if (contact%status(c) == contact_open) return
+        v = weighted_motion(contact, c, known)
+        b(1) = scale*(contact%g(c) - dot_product(contact%normal(:, c), v))
+        if (contact%status(c) == contact_stick) b(2) = scale*dot_product(contact%tangent(:, c), v)
+        if (contact%status(c) == contact_slip) &
+            b(2) = -viscous*scale/contact%w(c)*dot_product(contact%tangent(:, c), v)
+    end function contact_rhs
+
+    !> sum_i a_ci v_i: the slave side's motion relative to the master side, weighted.
+    pure function weighted_motion(contact, c, v) result(r)
+        type(contact_t), intent(in) :: contact
+        integer, intent(in) :: c
+        real(dp), intent(in) :: v(:, :)
+        real(dp) :: r(2)
+        integer :: k
+        r = 0.0_dp
+        do k = contact%cpl_ptr(c), contact%cpl_ptr(c + 1) - 1
+            r = r + contact%cpl_a(k)*v(:, contact%cpl_node(k))
+        end do
+    end function weighted_motion
+
+    !> Tractions from the solved (scaled) multipliers x(2*nc).
+    pure subroutine contact_unpack(contact, x, scale)
+        type(contact_t), intent(inout) :: contact
+        real(dp), intent(in) :: x(:), scale
+        contact%p = scale*x(1:2*contact%nc - 1:2)
+        contact%q = scale*x(2:2*contact%nc:2)
+        where (contact%status == contact_open)
+            contact%p = 0.0_dp
+            contact%q = 0.0_dp
+        end where
+    end subroutine contact_unpack
+
+    !> The primal-dual active-set step after a solve with the increment du (2, nnode)
+    !> (Hueber & Wohlmuth 2005), normal first: closed where p - c_n gap > 0. While that set
+    !> changes, every closed node is held in stick, so that an iterate with wrong pressures
+    !> cannot set a whole body sliding; once it holds, stick where |q - c_t slip| <= mu p, else
+    !> slip in the direction of that trial traction. `changed` when any node's status or slip
+    !> direction changed.
+    pure subroutine contact_update_sets(model, contact, du, scale, changed, one_at_a_time)
+        type(model_t), intent(in) :: model
+        type(contact_t), intent(inout) :: contact
+        real(dp), intent(in) :: du(:, :), scale
+        logical, intent(out) :: changed
+        !> change only the node that violates its conditions most (after a cycle)
+        logical, intent(in) :: one_at_a_time
+        real(dp) :: v(2), gap, slip, cn, trial, bound, mu, ptol, violation(contact%nc)
+        integer :: c, status(contact%nc), sign_new(contact%nc), worst
+        logical :: closed(contact%nc), normal_changed
+        ptol = 1.0e-10_dp*max(maxval(abs(contact%p)), tiny(1.0_dp))
+        closed = .false.
+        violation = 0.0_dp
+        do c = 1, contact%nc
+            if (.not. contact%supported(c)) cycle
+            v = weighted_motion(contact, c, du)
+            gap = (contact%g(c) - dot_product(contact%normal(:, c), v))/contact%w(c)
+            cn = scale/max(contact%wref(c), tiny(1.0_dp))
+            ! a gap below 1e-10 of the node's length counts as closed (round-off)
+            closed(c) = contact%p(c) - cn*(gap - 1.0e-10_dp*contact%wref(c)) > 0.0_dp
+            violation(c) = abs(contact%p(c) - cn*gap)
+        end do
+        normal_changed = any(closed .neqv. contact%status /= contact_open)
+        status = contact_open
+        sign_new = 0
+        do c = 1, contact%nc
+            if (.not. closed(c)) cycle
+            if (normal_changed .and. hold_while_normal_changes) then
+                status(c) = contact_stick
+                cycle
+            end if
+            v = weighted_motion(contact, c, du)
+            slip = dot_product(contact%tangent(:, c), v)/contact%w(c)
+            cn = scale/max(contact%wref(c), tiny(1.0_dp))
+            mu = model%contact_pairs(contact%pair(c))%friction
+            trial = contact%q(c) - cn*slip
+            bound = mu*max(contact%p(c), 0.0_dp)
+            violation(c) = abs(abs(trial) - bound)
+            if (mu > 0.0_dp .and. abs(trial) <= bound*(1.0_dp + 1.0e-9_dp) + ptol) then
+                status(c) = contact_stick
+            else
+                status(c) = contact_slip
+                if (mu > 0.0_dp) sign_new(c) = int(sign(1.0_dp, trial))
+                ! A slip that turns round passes through stick: try that first (slip
+                ! reversal is how the iterates of a sliding-everywhere body chatter).
+                if (contact%status(c) == contact_slip .and. &
+                    sign_new(c) == -contact%slip_sign(c) .and. sign_new(c) /= 0) then
+                    status(c) = contact_stick
+                    sign_new(c) = 0
+                end if
+            end if
+        end do
+        if (one_at_a_time) then
+            where (status == contact%status .and. sign_new == contact%slip_sign) violation = -1.0_dp
+            worst = maxloc(violation, dim=1)
+            if (violation(worst) >= 0.0_dp) then
+                where ([(c /= worst, c=1, contact%nc)])
+                    status = contact%status
+                    sign_new = contact%slip_sign
+                end where
+            end if
+        end if
+        changed = any(status /= contact%status) .or. any(sign_new /= contact%slip_sign)
+        contact%status = status
+        contact%slip_sign = sign_new
+    end subroutine contact_update_sets
+
+    !> The forces the contact tractions apply to the nodes (2, nnode), kN/m.
+    pure subroutine contact_forces(contact, force)
+        type(contact_t), intent(in) :: contact
+        real(dp), intent(inout) :: force(:, :)
+        integer :: c, k
+        force = 0.0_dp
+        do c = 1, contact%nc
+            if (contact%status(c) == contact_open) cycle
+            do k = contact%cpl_ptr(c), contact%cpl_ptr(c + 1) - 1
+                force(:, contact%cpl_node(k)) = force(:, contact%cpl_node(k)) - &
+                    contact%cpl_a(k)*(contact%p(c)*contact%normal(:, c) - &
+                                      contact%q(c)*contact%tangent(:, c))
+            end do
+        end do
+    end subroutine contact_forces
+
+    !> After an accepted increment du: displacements since placement, gaps and slips.
+    pure subroutine contact_accept(contact, du)
+        type(contact_t), intent(inout) :: contact
+        real(dp), intent(in) :: du(:, :)
+        real(dp) :: v(2)
+        integer :: c
+        do c = 1, contact%nc
+            if (.not. contact%supported(c)) cycle
+            v = weighted_motion(contact, c, du)
+            contact%gap(c) = (contact%g(c) - dot_product(contact%normal(:, c), v))/contact%w(c)
+            contact%slip(c) = contact%slip(c) + dot_product(contact%tangent(:, c), v)/contact%w(c)
+        end do
+        contact%u = contact%u + du
+    end subroutine contact_accept
+end module cfrd_contact
