@@ -139,6 +139,46 @@ cases += [
  ("pressure-on-joint", jsub("GRAVITY\n", "PRESSURE      5    1     100.0\n"), "{f}:21:11-15: field ELEM of PRESSURE: expected a solid element (element 5 is a joint, which has no faces to load), found '5'"),
  ("slab-group", jsub("BOUNDARY\n", "SLAB\n          FACE\nBOUNDARY\n"), "{f}:19:11-20: field GROUP of SLAB: expected an element group (SLAB), found 'FACE'"),
 ]
+cbase = """TITLE     bad contact deck
+NODES
+    1    3    1       0.0       0.0       2.0       0.0
+    4    6    1       0.0       1.0       2.0       1.0
+    7   10    1       0.0       1.0       2.0       1.0
+   11   14    1       0.0       2.0       2.0       2.0
+ELEMENTS
+    1    1    2    5    4    1    1    1
+    3    7    8   12   11    1    2    1 TOP
+MATERIALS
+    1ELASTIC   block
+     1.0E6       0.2      20.0
+CONTACT
+SURFACE   TOP           3    1    2    1
+SURFACE   BASE          1    3    1    1
+PAIR      TOP       BASE           0.5
+BOUNDARY
+    1    3    1    1    1
+LOADS
+GRAVITY
+END
+"""
+# lines: TITLE 2, NODES 3, nodes 4-7, ELEMENTS 8, elements 9-10, MATERIALS 11, 12-13,
+# CONTACT 14, SURFACE 15-16, PAIR 17, BOUNDARY 18, 19, LOADS 20, GRAVITY 21, END 22
+def csub(old, new):
+    assert old in cbase, old
+    return cbase.replace(old, new, 1)
+SURF = "SURFACE   BASE          1    3    1    1"
+CPAIR = "PAIR      TOP       BASE           0.5"
+cases += [
+ ("contact-card", csub(SURF, SURF.replace("SURFACE ", "SURFAKE ")), "{f}:16: unknown card 'SURFAKE' in CONTACT: expected SURFACE or PAIR"),
+ ("contact-face", csub(SURF, "SURFACE   BASE          1    5    1    1"), "{f}:16:26-30: field FACE of CONTACT SURFACE BASE: expected a face from 1 to 4, found '5'"),
+ ("contact-element", csub(SURF, "SURFACE   BASE          9    3"), "{f}:16:21-25: field ELEM of CONTACT SURFACE BASE: expected elements from 1 to 5 (generated element 9 is not), found '9'"),
+ ("contact-surface-name", csub(CPAIR, CPAIR.replace("BASE", "BASS")), "{f}:17:21-30: field MASTER of CONTACT PAIR: expected a surface named on a SURFACE card (TOP, BASE), found 'BASS'"),
+ ("contact-shared-node", csub("SURFACE   TOP           3    1    2    1", "SURFACE   TOP           2    4"), "{f}:17: node 5 is on both surfaces TOP and BASE: contact is between independent bodies (give each its own nodes)"),
+ ("contact-friction", csub(CPAIR, CPAIR.replace(" 0.5", "-0.5")), "{f}:17:31-40: field MU of CONTACT PAIR TOP: expected a real >= 0, found '-0.5'"),
+ ("contact-scheme", csub(CPAIR, CPAIR.ljust(50) + "GLUE"), "{f}:17:51-60: field SCHEME of CONTACT PAIR TOP: expected MORTAR (segment-to-segment) or NTS (node-to-segment), found 'GLUE'"),
+ ("contact-cast", csub(CPAIR, CPAIR.ljust(74) + "2"), "{f}:17:71-75: field CAST of CONTACT PAIR TOP: expected 0 or 1 (1: cast in place, the gap at placement counts as closed), found '2'"),
+ ("contact-unused-surface", csub(CPAIR, "SURFACE   SIDE          1    4\n" + CPAIR), "{f}:17: surface SIDE is in no CONTACT PAIR"),
+]
 for old in os.listdir(P):
     os.remove(P + old)
 for i, (name, deck, expect) in enumerate(cases, 1):

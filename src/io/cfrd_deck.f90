@@ -11,7 +11,9 @@ module cfrd_deck
                           newtop_count, solver_midpoint, solver_newton, &
                           plane_strain, axisymmetric, law_elastic, law_duncan_eb, law_goodman, &
                           elem_quad4, elem_joint_gauss, elem_joint_lobatto, is_joint_kind, &
-                          interface_element_t, method_joint, method_thin, all_groups
+                          interface_element_t, method_joint, method_thin, all_groups, &
+                          contact_surface_t, contact_pair_t, scheme_mortar, scheme_nts, &
+                          search_linear
     use cfrd_model_check, only: element_shape, first_unused_node, free_rigid_mode, &
                                 shape_ok, shape_degenerate, unplaced_load, layer_thickness
     use cfrd_cards, only: card_t, field_t, deck_lines_t, int_field, real_field, text_field, &
@@ -26,21 +28,24 @@ module cfrd_deck
     integer, parameter :: g_title = 1, g_control = 2, g_nodes = 3, g_elements = 4, &
                           g_materials = 5, g_boundary = 6, g_loads = 7, g_stages = 8, &
                           g_reservoir = 9, g_gauges = 10, g_interface = 11, g_slab = 12, &
-                          ngroups = 12
+                          g_contact = 13, ngroups = 13
     character(len=10), parameter :: group_keywords(ngroups) = [character(len=10) :: &
                                     'TITLE', 'CONTROL', 'NODES', 'ELEMENTS', 'MATERIALS', &
                                     'BOUNDARY', 'LOADS', 'STAGES', 'RESERVOIR', 'GAUGES', &
-                                    'INTERFACE', 'SLAB']
+                                    'INTERFACE', 'SLAB', 'CONTACT']
     character(len=*), parameter :: valid_groups = 'TITLE, CONTROL, NODES, ELEMENTS, '// &
                                    'MATERIALS, BOUNDARY, LOADS, STAGES, RESERVOIR, GAUGES, '// &
-                                   'INTERFACE, SLAB, END'
+                                   'INTERFACE, SLAB, CONTACT, END'
     logical, parameter :: group_required(ngroups) = [.false., .false., .true., .true., &
                                                      .true., .true., .false., .false., &
-                                                     .false., .false., .false., .false.]
+                                                     .false., .false., .false., .false., &
+                                                     .false.]
     character(len=10), parameter :: load_keywords(3) = [character(len=10) :: 'GRAVITY', &
                                                         'FORCE', 'PRESSURE']
     character(len=10), parameter :: stage_keywords(4) = [character(len=10) :: 'FILL', &
                                                          'LOAD', 'RESET', 'WATER']
+    character(len=10), parameter :: contact_keywords(2) = [character(len=10) :: 'SURFACE', &
+                                                           'PAIR']
     !> At most this many named LOADS groups (load sets).
     integer, parameter :: max_load_sets = 1000
 
@@ -141,6 +146,22 @@ module cfrd_deck
                                 field_t('NINC', 21, 5, int_field), &
                                 field_t('DATE', 26, 10, text_field), &
                                 field_t('LABEL', 36, 45, text_field)]
+    type(field_t), parameter :: surface_fields(6) = [ &
+                                field_t('KEYWORD', 1, 10, text_field), &
+                                field_t('NAME', 11, 10, text_field), &
+                                field_t('ELEM', 21, 5, int_field), &
+                                field_t('FACE', 26, 5, int_field), &
+                                field_t('NGEN', 31, 5, int_field), &
+                                field_t('INC', 36, 5, int_field)]
+    type(field_t), parameter :: pair_fields(8) = [ &
+                                field_t('KEYWORD', 1, 10, text_field), &
+                                field_t('SLAVE', 11, 10, text_field), &
+                                field_t('MASTER', 21, 10, text_field), &
+                                field_t('MU', 31, 10, real_field), &
+                                field_t('TOL', 41, 10, real_field), &
+                                field_t('SCHEME', 51, 10, text_field), &
+                                field_t('SEARCH', 61, 10, text_field), &
+                                field_t('CAST', 71, 5, int_field)]
     type(field_t), parameter :: reservoir_fields(3) = [ &
                                 field_t('ELEM', 1, 5, int_field), &
                                 field_t('FACE', 6, 5, int_field), &
@@ -225,6 +246,8 @@ contains
         call read_interface(path, groups(g_interface), model, element_line, error)
         if (allocated(error)) return
         call read_slab(path, groups(g_slab), model, error)
+        if (allocated(error)) return
+        call read_contact(path, groups(g_contact), model, error)
         if (allocated(error)) return
         call read_boundary(path, groups(g_boundary), model, error)
         if (allocated(error)) return
@@ -322,13 +345,17 @@ contains
                     cycle
                 end if
                 if (.not. ((current < 0 .and. any(load_keywords == word)) .or. &
-                           (current == g_stages .and. any(stage_keywords == word)))) then
+                           (current == g_stages .and. any(stage_keywords == word)) .or. &
+                           (current == g_contact .and. any(contact_keywords == word)))) then
                     if (current < 0) then
                         call card_error(error, lines%file, card, "unknown load '"//word// &
                                         "' in LOADS: expected GRAVITY, FORCE or PRESSURE")
                     else if (current == g_stages) then
                         call card_error(error, lines%file, card, "unknown stage '"//word// &
                                         "' in STAGES: expected FILL, LOAD, RESET or WATER")
+                    else if (current == g_contact) then
+                        call card_error(error, lines%file, card, "unknown card '"//word// &
+                                        "' in CONTACT: expected SURFACE or PAIR")
                     else
                         call card_error(error, lines%file, card, "unknown group '"//word// &
                                         "': expected one of "//valid_groups)
@@ -390,7 +417,7 @@ contains
         ! "unknown group 'INF'".
         if (card%text(1:1) == ' ' .and. .not. (word == 'END' .or. word == 'STOP' .or. &
             any(group_keywords == word) .or. any(load_keywords == word) .or. &
-            any(stage_keywords == word))) word = ''
+            any(stage_keywords == word) .or. any(contact_keywords == word))) word = ''
     end function leading_word
 
     subroutine append_card(group, card)
@@ -1576,6 +1603,239 @@ contains
 
     !> RESERVOIR: the element faces the reservoir wets, each with the group whose placement
     !> covers it (blank: never covered).
+    !> CONTACT: SURFACE cards (element faces, generated with NGEN and INC; cards of one name
+    !> add up) and PAIR cards (slave, master, friction, closure tolerance, scheme, search,
+    !> cast in place). docs/cards.md, CONTACT.
+    subroutine read_contact(file, group, model, error)
+        character(len=*), intent(in) :: file
+        type(group_cards_t), intent(in) :: group
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        character(len=:), allocatable :: keyword, name, ctx, word
+        integer, allocatable :: first_line(:), used_as(:), owner(:)
+        integer :: i, k, e, face, ngen, inc, s, node, side, j, cast
+        type(contact_pair_t) :: pair
+        allocate (model%surfaces(0), model%contact_pairs(0), first_line(0))
+        if (.not. group%present) return
+        if (group%n == 0) then
+            call fatal_error(error, file//':'//to_text(group%header_line)//': CONTACT has '// &
+                             'no SURFACE or PAIR cards', input_error)
+            return
+        end if
+        do i = 1, group%n
+            associate (card => group%cards(i))
+                call get_text(card, surface_fields, 1, keyword)
+                if (upper(keyword) /= 'SURFACE') cycle
+                call get_text(card, surface_fields, 2, name)
+                name = upper(name)
+                if (len(name) == 0) then
+                    call field_error(error, file, card, surface_fields, 2, 'CONTACT SURFACE', &
+                                     'a surface name', '')
+                    return
+                end if
+                ctx = 'CONTACT SURFACE '//name
+                s = surface_index(name)
+                if (s == 0) then
+                    model%surfaces = [model%surfaces, contact_surface_t(name=name)]
+                    s = size(model%surfaces)
+                    allocate (model%surfaces(s)%element(0), model%surfaces(s)%face(0))
+                    first_line = [first_line, card%line]
+                end if
+                call get_int(file, card, surface_fields, 3, ctx, 0, e, error)
+                if (allocated(error)) return
+                call get_int(file, card, surface_fields, 4, ctx, 0, face, error)
+                if (allocated(error)) return
+                if (face < 1 .or. face > 4) then
+                    call field_error(error, file, card, surface_fields, 4, ctx, &
+                                     'a face from 1 to 4', raw_text(card, surface_fields, 4))
+                    return
+                end if
+                call get_int(file, card, surface_fields, 5, ctx, 0, ngen, error)
+                if (allocated(error)) return
+                if (ngen < 0) then
+                    call field_error(error, file, card, surface_fields, 5, ctx, 'an integer >= 0', &
+                                     raw_text(card, surface_fields, 5))
+                    return
+                end if
+                call get_int(file, card, surface_fields, 6, ctx, 1, inc, error)
+                if (allocated(error)) return
+                if (inc == 0) then
+                    call field_error(error, file, card, surface_fields, 6, ctx, &
+                                     'a non-zero increment', raw_text(card, surface_fields, 6))
+                    return
+                end if
+                do k = 0, ngen
+                    if (e + k*inc < 1 .or. e + k*inc > model%mesh%nelem) then
+                        call field_error(error, file, card, surface_fields, &
+                                         merge(3, 5, k == 0), ctx, 'elements from 1 to '// &
+                                         to_text(model%mesh%nelem)//' (generated element '// &
+                                         to_text(e + k*inc)//' is not)', &
+                                         raw_text(card, surface_fields, merge(3, 5, k == 0)))
+                        return
+                    end if
+                    if (is_joint_kind(model%mesh%kind(e + k*inc))) then
+                        call field_error(error, file, card, surface_fields, 3, ctx, &
+                                         'a solid element (element '//to_text(e + k*inc)// &
+                                         ' is a joint)', raw_text(card, surface_fields, 3))
+                        return
+                    end if
+                    associate (conn => model%mesh%conn(:, e + k*inc))
+                        if (face == 3 .and. conn(3) == conn(4)) then
+                            call field_error(error, file, card, surface_fields, 4, ctx, &
+                                             'face 1, 2 or 4: element '//to_text(e + k*inc)// &
+                                             ' is a triangle, its face 3 has zero length', '3')
+                            return
+                        end if
+                    end associate
+                    if (any(model%surfaces(s)%element == e + k*inc .and. &
+                            model%surfaces(s)%face == face)) then
+                        call card_error(error, file, card, 'face '//to_text(face)// &
+                                        ' of element '//to_text(e + k*inc)//' is twice in '// &
+                                        'surface '//name)
+                        return
+                    end if
+                    model%surfaces(s)%element = [model%surfaces(s)%element, e + k*inc]
+                    model%surfaces(s)%face = [model%surfaces(s)%face, face]
+                end do
+            end associate
+        end do
+        allocate (used_as(size(model%surfaces)), source=0)
+        do i = 1, group%n
+            associate (card => group%cards(i))
+                call get_text(card, pair_fields, 1, keyword)
+                if (upper(keyword) /= 'PAIR') cycle
+                pair = contact_pair_t(line=card%line)
+                do side = 2, 3
+                    call get_text(card, pair_fields, side, name)
+                    s = surface_index(upper(name))
+                    if (s == 0) then
+                        call field_error(error, file, card, pair_fields, side, 'CONTACT PAIR', &
+                                         'a surface named on a SURFACE card ('// &
+                                         surface_list()//')', name)
+                        return
+                    end if
+                    if (used_as(s) /= 0) then
+                        call field_error(error, file, card, pair_fields, side, 'CONTACT PAIR', &
+                                         'a surface in no other pair (line '// &
+                                         to_text(used_as(s))//')', name)
+                        return
+                    end if
+                    used_as(s) = card%line
+                    if (side == 2) pair%slave = s
+                    if (side == 3) pair%master = s
+                end do
+                ctx = 'CONTACT PAIR '//trim(model%surfaces(pair%slave)%name)
+                call get_real(file, card, pair_fields, 4, ctx, 0.0_dp, pair%friction, error)
+                if (allocated(error)) return
+                if (.not. (pair%friction >= 0.0_dp)) then
+                    call field_error(error, file, card, pair_fields, 4, ctx, 'a real >= 0', &
+                                     raw_text(card, pair_fields, 4))
+                    return
+                end if
+                call get_real(file, card, pair_fields, 5, ctx, 0.0_dp, pair%tolerance, error)
+                if (allocated(error)) return
+                if (.not. (pair%tolerance >= 0.0_dp)) then
+                    call field_error(error, file, card, pair_fields, 5, ctx, 'a real >= 0 (m)', &
+                                     raw_text(card, pair_fields, 5))
+                    return
+                end if
+                call get_text(card, pair_fields, 6, word)
+                select case (upper(word))
+                case ('', 'MORTAR')
+                    pair%scheme = scheme_mortar
+                case ('NTS')
+                    pair%scheme = scheme_nts
+                case default
+                    call field_error(error, file, card, pair_fields, 6, ctx, &
+                                     'MORTAR (segment-to-segment) or NTS (node-to-segment)', &
+                                     word)
+                    return
+                end select
+                call get_text(card, pair_fields, 7, word)
+                select case (upper(word))
+                case ('', 'LINEAR')
+                    pair%search = search_linear
+                case default
+                    call field_error(error, file, card, pair_fields, 7, ctx, &
+                                     'LINEAR (piecewise-linear surfaces; RPIM is not '// &
+                                     'available yet)', word)
+                    return
+                end select
+                call get_int(file, card, pair_fields, 8, ctx, 0, cast, error)
+                if (allocated(error)) return
+                if (cast /= 0 .and. cast /= 1) then
+                    call field_error(error, file, card, pair_fields, 8, ctx, &
+                                     '0 or 1 (1: cast in place, the gap at placement counts '// &
+                                     'as closed)', raw_text(card, pair_fields, 8))
+                    return
+                end if
+                pair%cast = cast == 1
+                ! Two independent bodies: no node on both surfaces.
+                allocate (owner(model%mesh%nnode), source=0)
+                do j = 1, size(model%surfaces(pair%slave)%element)
+                    call face_nodes(model%surfaces(pair%slave), j, owner, 1, node)
+                end do
+                do j = 1, size(model%surfaces(pair%master)%element)
+                    call face_nodes(model%surfaces(pair%master), j, owner, 2, node)
+                    if (node > 0) then
+                        call card_error(error, file, card, 'node '//to_text(node)//' is on '// &
+                                        'both surfaces '//trim(model%surfaces(pair%slave)%name)// &
+                                        ' and '//trim(model%surfaces(pair%master)%name)// &
+                                        ': contact is between independent bodies (give '// &
+                                        'each its own nodes)')
+                        return
+                    end if
+                end do
+                deallocate (owner)
+                model%contact_pairs = [model%contact_pairs, pair]
+            end associate
+        end do
+        do s = 1, size(model%surfaces)
+            if (used_as(s) == 0) then
+                call fatal_error(error, file//':'//to_text(first_line(s))//': surface '// &
+                                 trim(model%surfaces(s)%name)//' is in no CONTACT PAIR', &
+                                 input_error)
+                return
+            end if
+        end do
+    contains
+        integer function surface_index(surface_name)
+            character(len=*), intent(in) :: surface_name
+            integer :: m
+            surface_index = 0
+            do m = 1, size(model%surfaces)
+                if (model%surfaces(m)%name == surface_name) surface_index = m
+            end do
+        end function surface_index
+
+        function surface_list() result(text)
+            character(len=:), allocatable :: text
+            integer :: m
+            text = ''
+            do m = 1, size(model%surfaces)
+                if (m > 1) text = text//', '
+                text = text//trim(model%surfaces(m)%name)
+            end do
+        end function surface_list
+
+        !> Mark the two nodes of face j of a surface with `mark`; `clash` is a node that
+        !> already carried the other mark (0 if none).
+        subroutine face_nodes(surface, j, marks, mark, clash)
+            type(contact_surface_t), intent(in) :: surface
+            integer, intent(in) :: j, mark
+            integer, intent(inout) :: marks(:)
+            integer, intent(out) :: clash
+            integer :: ends(2), q
+            ends = [model%mesh%conn(surface%face(j), surface%element(j)), &
+                    model%mesh%conn(mod(surface%face(j), 4) + 1, surface%element(j))]
+            clash = 0
+            do q = 1, 2
+                if (marks(ends(q)) /= 0 .and. marks(ends(q)) /= mark) clash = ends(q)
+                marks(ends(q)) = mark
+            end do
+        end subroutine face_nodes
+    end subroutine read_contact
+
     subroutine read_reservoir(file, group, model, error)
         character(len=*), intent(in) :: file
         type(group_cards_t), intent(in) :: group
