@@ -150,13 +150,15 @@ def run_suite(cfrd, workdir):
                     newton], check=True)
     decks = [(mid, [], "tianshengqiao-x1.dat")]
     runs = [(mid, ["--finding"]), (newton, ["--balance", "--label", "tsq-newton"])]
-    for method in ("joint", "thin"):
+    for method in ("joint", "thin", "contact"):
         deck = os.path.join(workdir, f"tianshengqiao-x1-{method}.dat")
         subprocess.run([sys.executable, gen, "--interface", method, "--deck", deck], check=True)
         decks.append((deck, [], f"tianshengqiao-x1-{method}.dat"))
         runs.append((deck, ["--label", f"tsq-{method}"]))
-        # The Newton variant: equilibrium with the thin layer at every stage. (With joints,
-        # Newton to 1e-10 stalls at stage 16 on the floored tangents: issue 6 note.)
+        # The Newton variant: equilibrium with the thin layer, and with the slab in contact
+        # (the contact forces pass the slab's weight and the water on it to the body), at
+        # every stage. (With joints, Newton to 1e-10 stalls at stage 16 on the floored
+        # tangents: issue 6 note.)
         if method == "joint":
             continue
         deck = os.path.join(workdir, f"tianshengqiao-x1-{method}-newton.dat")

@@ -20,10 +20,10 @@ The mesh (docs/tianshengqiao.md):
     holds the x1 mesh's lines, zones, groups and fill layers exactly.
 
 Interfaces (--interface): bonded (the slab shares the cushion's nodes; the default),
-thin (a row of thin-layer quads between cushion and slab: a complete deck), joint (matching
-node pairs on the interface) and contact (a slab mesh of its own, nodes not matching); the
-last two are meshes only (--report) until the joint elements (issue 6) and the contact
-module (issue 7) exist.
+thin (a row of thin-layer quads between cushion and slab), joint (Goodman joints between
+matching node pairs on the interface) and contact (a slab mesh of its own, nodes not
+matching the cushion's, with CONTACT cards: the slab's inner faces slave, the body's
+upstream faces master, cast in place).
 
 CLI:
   python3 tools/tianshengqiao.py --refine 1 --deck inputs/tianshengqiao-x1.dat
@@ -573,16 +573,14 @@ def gauge_nodes(geo, num):
 
 def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="bonded",
                rule="LOBATTO"):
-    if interface == "contact":
-        raise SystemExit("--interface contact: the deck needs the contact module of issue 7;"
-                         " --report shows the mesh")
     gauges = gauge_nodes(geo, num)
     info = describe(geo, r, num)
     lines = []
     add = lines.append
     what = {"bonded": "slab bonded to the cushion",
             "thin": "thin layer under the slab",
-            "joint": f"Goodman joints ({rule.lower()})"}[interface]
+            "joint": f"Goodman joints ({rule.lower()})",
+            "contact": "slab in contact"}[interface]
     add(f"TITLE     Tianshengqiao-I section 0+630, x{r} mesh, {what}")
     add("* Written by tools/tianshengqiao.py from inputs/tianshengqiao-i.toml; do not edit:")
     add("* edit the geometry file and rerun `python3 tools/tianshengqiao.py --all`.")
@@ -604,7 +602,7 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
         f" {info['angle_min']:.1f}-{info['angle_max']:.1f} deg")
     add("CONTROL")
     add("*NNODE NELEM NMAT MODEL        PA    GAMMAW UNITS     NEWTOPSOLVER       TOLMAXIT")
-    nmat = 6 if interface == "bonded" else 7
+    nmat = 6 if interface in ("bonded", "contact") else 7
     control = (fmt_int(len(num.xy)) + fmt_int(len(num.conn)) + fmt_int(nmat) + fmt_int(1)
                + fmt_real(101.325) + fmt_real(GAMMA_W) + fmt_alpha("KN-M") + fmt_int(0))
     if solver == "newton":
@@ -662,6 +660,29 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
         add("*         GROUP")
         for phase in range(1, len(tops) + 1):
             add(" " * 10 + fmt_alpha(f"SLAB{phase}"))
+    if interface == "contact":
+        add("SLAB")
+        add("*         GROUP")
+        for phase in range(1, len(geo.v("slab", "phase_tops")) + 1):
+            add(" " * 10 + fmt_alpha(f"SLAB{phase}"))
+        # The slab's inner faces (slave) and the body's upstream faces (master): the faces
+        # whose two nodes lie on the cushion face line; independent nodes on either side.
+        add("CONTACT")
+        add("*KEYWORD  NAME       ELEM FACE")
+        for surface, kind in (("SLABFACE", "slab"), ("CUSHION", "body")):
+            for e, (c, q) in enumerate(zip(num.conn, num.quads), 1):
+                if q.kind != kind:
+                    continue
+                for f in range(4):
+                    a, b = c[f] - 1, c[(f + 1) % 4] - 1
+                    if all(abs(num.xy[n, 0] - geo.x_up(num.xy[n, 1])) < 1e-6 for n in (a, b)):
+                        add(fmt_alpha("SURFACE") + fmt_alpha(surface) + fmt_int(e)
+                            + fmt_int(f + 1))
+        add("*KEYWORD  SLAVE     MASTER          MU       TOL SCHEME    SEARCH     CAST")
+        add(fmt_alpha("PAIR") + fmt_alpha("SLABFACE") + fmt_alpha("CUSHION")
+            + fmt_real(geo.v("interface", "contact_friction"))
+            + fmt_real(geo.v("interface", "contact_tolerance")) + fmt_alpha("MORTAR")
+            + fmt_alpha("LINEAR") + fmt_int(1))
     add("BOUNDARY")
     add("*  N1   N2  INC   IX   IY")
     base = np.nonzero(np.abs(num.xy[:, 1] - geo.base) < 1e-9)[0] + 1
@@ -717,12 +738,13 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--refine", type=int, default=1, choices=[1, 2, 4, 8])
     parser.add_argument("--deck", help="write the cfrd deck here")
-    parser.add_argument("--all", action="store_true",  # x1, x2 bonded; x1 joint and thin
-                        help="write inputs/tianshengqiao-x1.dat and -x2.dat")
+    parser.add_argument("--all", action="store_true",
+                        help="write inputs/tianshengqiao-x1.dat and -x2.dat (bonded) and the"
+                             " x1 joint, thin and contact decks")
     parser.add_argument("--interface", default="bonded", choices=list(INTERFACES),
                         help="slab-cushion interface: bonded (shared nodes), thin (thin-layer"
-                             " quads), joint and contact (mesh only: --report; their decks"
-                             " come with issues 6 and 7)")
+                             " quads), joint (Goodman joints on node pairs) or contact (the"
+                             " slab meshed on its own, CONTACT cards)")
     parser.add_argument("--geometry", default=str(GEOMETRY))
     parser.add_argument("--solver", default="midpoint", choices=["midpoint", "newton"],
                         help="midpoint stiffness (the paper's) or Newton to 1e-10")
@@ -735,7 +757,8 @@ def main(argv=None):
     if args.all:
         root = Path(__file__).resolve().parent.parent / "inputs"
         jobs = [(r, root / f"tianshengqiao-x{r}.dat", "bonded") for r in (1, 2)]
-        jobs += [(1, root / f"tianshengqiao-x1-{m}.dat", m) for m in ("joint", "thin")]
+        jobs += [(1, root / f"tianshengqiao-x1-{m}.dat", m) for m in ("joint", "thin",
+                                                                      "contact")]
     elif args.deck:
         jobs = [(args.refine, Path(args.deck), args.interface)]
     else:
