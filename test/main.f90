@@ -13,6 +13,7 @@ program cfrd_tests
     use test_analysis_water, only: collect_analysis_water
     use test_analysis_interface, only: collect_analysis_interface
     use test_contact_mortar, only: collect_contact_mortar
+    use test_contact_hertz, only: collect_contact_hertz
     implicit none
     character(len=64) :: only_suite, only_test
     type(unittest_t), allocatable :: tests(:)
@@ -60,6 +61,10 @@ program cfrd_tests
     if (wanted('contact_mortar')) then
         call collect_contact_mortar(tests)
         call run_suite('contact_mortar', tests, only_test, npass, nfail)
+    end if
+    if (wanted('contact_hertz')) then
+        call collect_contact_hertz(tests)
+        call run_suite('contact_hertz', tests, only_test, npass, nfail)
     end if
     if (wanted('io_results')) then
         call collect_io_results(tests)

@@ -409,27 +409,39 @@ contains
         if (maxval([0.0_dp, contact%wref]) > 0.0_dp) scale = scale/maxval(contact%wref)
     end function multiplier_scale
 
-    !> Whether each slave node's normal and tangential constraints reach a free dof: the
-    !> weights of its coupled free dofs along n and t are not all (nearly) zero.
+    !> Whether each slave node's normal and tangential constraints act on the free dofs:
+    !> the rows restricted to the free dofs are not (nearly) zero, and the tangential row is
+    !> not (nearly) parallel to the normal one (a node on a symmetry line with ux prescribed:
+    !> its slip is the supports' business). A constraint that does not is left out.
     pure function constraining_rows(contact, eq) result(constrains)
         type(contact_t), intent(in) :: contact
         integer, intent(in) :: eq(:, :)
         logical, allocatable :: constrains(:, :)
-        real(dp) :: free(2), total
-        integer :: c, k, node
+        real(dp), allocatable :: rn(:), rt(:)
+        real(dp) :: total, nn, tt
+        integer :: c, k, node, m
         allocate (constrains(2, contact%nc))
         do c = 1, contact%nc
-            free = 0.0_dp
+            m = contact%cpl_ptr(c + 1) - contact%cpl_ptr(c)
+            allocate (rn(2*m), rt(2*m))
             total = 0.0_dp
-            do k = contact%cpl_ptr(c), contact%cpl_ptr(c + 1) - 1
-                node = contact%cpl_node(k)
-                total = total + abs(contact%cpl_a(k))
-                free(1) = free(1) + abs(contact%cpl_a(k))* &
-                          sum(abs(contact%normal(:, c)), mask=eq(:, node) > 0)
-                free(2) = free(2) + abs(contact%cpl_a(k))* &
-                          sum(abs(contact%tangent(:, c)), mask=eq(:, node) > 0)
+            do k = 1, m
+                node = contact%cpl_node(contact%cpl_ptr(c) + k - 1)
+                total = total + abs(contact%cpl_a(contact%cpl_ptr(c) + k - 1))
+                rn(2*k - 1:2*k) = merge(contact%cpl_a(contact%cpl_ptr(c) + k - 1)* &
+                                        contact%normal(:, c), 0.0_dp, eq(:, node) > 0)
+                rt(2*k - 1:2*k) = merge(contact%cpl_a(contact%cpl_ptr(c) + k - 1)* &
+                                        contact%tangent(:, c), 0.0_dp, eq(:, node) > 0)
             end do
-            constrains(:, c) = free > 1.0e-12_dp*total
+            ! relative 1e-9: a dual multiplier's weight on a linear field's values away from
+            ! its node is zero up to round-off
+            nn = dot_product(rn, rn)
+            tt = dot_product(rt, rt)
+            constrains(1, c) = sqrt(nn) > 1.0e-9_dp*total
+            constrains(2, c) = sqrt(tt) > 1.0e-9_dp*total
+            if (constrains(1, c) .and. constrains(2, c)) &
+                constrains(2, c) = nn*tt - dot_product(rn, rt)**2 > 1.0e-9_dp*nn*tt
+            deallocate (rn, rt)
         end do
     end function constraining_rows
 
