@@ -12,6 +12,7 @@ module test_io_results
     use cfrd_results, only: results_t
     use cfrd_hdf5, only: write_results_h5
     use cfrd_listing, only: write_listing, write_gauge_csv
+    use cfrd_stage_summary, only: summarise_run
     use cfrd_test_models, only: new_model, elastic_material
     implicit none
     private
@@ -138,7 +139,8 @@ contains
         logical :: found_sum, found_node
         call sample(model, results)
         call execute_command_line('mkdir -p '//dir)
-        call write_listing(dir//'sample.out', model, results, error)
+        call write_listing(dir//'sample.out', model, summarise_run(model, results), &
+                           results%stages(1), results%wall_time, error)
         if (allocated(error)) return
         found_sum = .false.
         found_node = .false.
@@ -182,7 +184,8 @@ contains
         integer :: unit, comma(5), k, pos
         call sample(model, results)
         call execute_command_line('mkdir -p '//dir)
-        call write_gauge_csv(dir//'sample-gauges.csv', model, results, error)
+        call write_gauge_csv(dir//'sample-gauges.csv', model, summarise_run(model, results), &
+                             error)
         if (allocated(error)) return
         open (newunit=unit, file=dir//'sample-gauges.csv', status='old', action='read')
         read (unit, '(a)') header
@@ -213,7 +216,8 @@ contains
         type(results_t) :: results
         integer :: category
         call sample(model, results)
-        call write_listing(dir//'no/such/dir/x.out', model, results, error)
+        call write_listing(dir//'no/such/dir/x.out', model, summarise_run(model, results), &
+                           results%stages(1), results%wall_time, error)
         if (.not. allocated(error)) then
             call fail(error, 'listing into a missing directory succeeded')
             return
