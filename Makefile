@@ -7,7 +7,7 @@ SHELL := /bin/bash
 DECK ?= inputs/tianshengqiao-x1.dat
 APT_PACKAGES := gfortran libsuitesparse-dev libhdf5-dev liblapack-dev libblas-dev \
                 pkg-config calculix-ccx libopenblas0-pthread
-PIP_PACKAGES := fpm numpy scipy matplotlib h5py tomli
+PIP_PACKAGES := fpm numpy scipy matplotlib h5py tomli meshio
 
 # HDF5's Fortran modules and libraries live in Debian's serial folders: ask pkg-config.
 HDF5_CFLAGS = $(shell pkg-config --cflags hdf5 2>/dev/null)
