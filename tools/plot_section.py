@@ -3,9 +3,9 @@
 the dam section at one stage, like Figure 7 of the paper, and the gauge histories against
 time, like its Figures 9 and 10.
 
-    python3 tools/plot_section.py RESULTS.h5 --out outputs/tianshengqiao-settlement.png
+    python3 tools/plot_section.py RESULTS.h5 --out settlement.png
     python3 tools/plot_section.py RESULTS.h5 --what ux --out ux.png
-    python3 tools/plot_section.py RESULTS.h5 --histories outputs/tianshengqiao-gauges.png
+    python3 tools/plot_section.py RESULTS.h5 --histories gauges.png
 
 Displacements are those since each node's placement (dataset displacement_total), in cm
 as in the paper; only the elements active at the stage are drawn. tools/figures.py draws
