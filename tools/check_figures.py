@@ -94,8 +94,9 @@ def check(h5path, figdir):
         values = np.array([float(r["value"]) for r in rows])
         ok = (np.array_equal(nodes, used) and np.array_equal(values, expected[used])
               and np.array_equal(xy(rows), xyz[used]))
-        verdict(name, ok, f"{len(rows)} nodal values drawn = {'-100 uy' if 'settl' in name else '100 ux'}"
-                f" of displacement_total at the {len(used)} nodes of the active elements (exact)")
+        what = "-100 uy" if "settl" in name else "100 ux"
+        verdict(name, ok, f"{len(rows)} nodal values drawn = {what} of displacement_total at "
+                f"the {len(used)} nodes of the active elements (exact)")
 
     # Figs. 9-10: gauge histories.
     series = read_data(data / "fig09-10-gauges.csv")
