@@ -7,7 +7,7 @@ SHELL := /bin/bash
 DECK ?= inputs/tianshengqiao-x1.dat
 APT_PACKAGES := gfortran libsuitesparse-dev libhdf5-dev liblapack-dev libblas-dev \
                 pkg-config calculix-ccx libopenblas0-pthread
-PIP_PACKAGES := fpm numpy scipy matplotlib h5py tomli
+PIP_PACKAGES := fpm numpy scipy matplotlib h5py tomli meshio
 
 # HDF5's Fortran modules and libraries live in Debian's serial folders: ask pkg-config.
 HDF5_CFLAGS = $(shell pkg-config --cflags hdf5 2>/dev/null)
@@ -18,7 +18,7 @@ DEBUG_FLAGS = -O0 -g -Wall -fcheck=all -ffpe-trap=invalid,zero,overflow -fbacktr
 # fpm takes the subcommand first: $(call fpm,SUBCOMMAND,PROFILE,FLAGS)
 fpm = FPM_LDFLAGS="$(HDF5_LDIRS)" fpm $(1) --profile $(2) --flag "$(3)"
 
-.PHONY: run test bench deps build build-debug clean
+.PHONY: run test bench figures deps build build-debug clean
 
 ## deps: install whatever is missing; a second call only checks (well under a second).
 deps:
@@ -47,6 +47,13 @@ run: build
 test: build-debug
 	@$(call fpm,test,debug,$(DEBUG_FLAGS)) >build/fortran-tests.log 2>&1; \
 	  tools/run_tests.sh build/fortran-tests.log
+
+## figures: run DECK, then draw the paper's figures from its results into FIGURES
+## (tools/figures.py: contours, gauge histories, interface opening and stresses, Table 5)
+FIGURES ?= build/figures
+figures: build
+	@bin/cfrd --quiet $(DECK)
+	@python3 tools/figures.py $(basename $(DECK)).h5 --out $(FIGURES)
 
 ## bench: timing figures (see docs/performance.md)
 bench: build

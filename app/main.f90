@@ -5,14 +5,13 @@ program cfrd_main
     use cfrd_error, only: error_t, fatal_error, error_status, usage_error
     use cfrd_version, only: cfrd_version_string
     use cfrd_model, only: model_t
-    use cfrd_results, only: results_t
+    use cfrd_results, only: results_t, stage_result_t
     use cfrd_deck, only: read_deck
     use cfrd_stage_driver, only: run_analysis
-    use cfrd_results, only: stage_result_t
-    use cfrd_listing, only: write_listing, write_summary, write_gauge_csv
-    use cfrd_hdf5, only: write_results_h5
-    use cfrd_interface_io, only: write_interface_csv, has_interfaces, has_slab
-    use cfrd_files, only: move_file, delete_file, base_name, strip_extension
+    use cfrd_listing, only: write_summary
+    use cfrd_run_output, only: run_output_t, begin_output, add_stage, finish_output, &
+                               keep_incomplete, discard_output
+    use cfrd_files, only: base_name, strip_extension
     use cfrd_memory, only: tune_allocator
     implicit none
 
@@ -22,7 +21,17 @@ program cfrd_main
         character(len=:), allocatable :: out_dir
     end type options_t
 
+    !> The deck being run and its result files. They live here, not in run_deck, because
+    !> the stage driver's progress callback (stream_stage) takes no context of its own:
+    !> each stage is written to the files as soon as it is done (docs/results.md).
+    type :: current_run_t
+        type(model_t) :: model
+        type(run_output_t) :: output
+        type(error_t), allocatable :: write_error   !! the first failure to write a stage
+    end type current_run_t
+
     type(options_t) :: options
+    type(current_run_t) :: current
     character(len=:), allocatable :: decks(:)
     type(error_t), allocatable :: error
     integer :: i, status, worst
@@ -48,101 +57,108 @@ contains
         character(len=*), intent(in) :: path
         type(options_t), intent(in) :: options
         integer, intent(out) :: status
-        type(model_t) :: model
         type(results_t) :: results
         type(error_t), allocatable :: error
         character(len=:), allocatable :: stem
         integer :: i
 
         status = 0
-        call read_deck(path, model, error)
-        if (.not. allocated(error)) then
-            do i = 1, size(model%warnings)
-                write (error_unit, '(a)') 'cfrd: warning: '//path//': '//trim(model%warnings(i))
-            end do
-        end if
-        if (.not. allocated(error) .and. options%check_only) then
-            if (.not. options%quiet) write (output_unit, '(a,i0,a,i0,a)') path//': OK (', &
-                model%mesh%nnode, ' nodes, ', model%mesh%nelem, ' elements)'
-            return
-        end if
-        if (.not. allocated(error)) then
-            if (options%quiet) then
-                call run_analysis(model, results, error)
-            else
-                call run_analysis(model, results, error, print_progress)
+        call new_run(current)
+        associate (model => current%model)
+            call read_deck(path, model, error)
+            if (.not. allocated(error)) then
+                do i = 1, size(model%warnings)
+                    write (error_unit, '(a)') 'cfrd: warning: '//path//': '// &
+                        trim(model%warnings(i))
+                end do
             end if
-        end if
-        if (.not. allocated(error)) then
+            if (.not. allocated(error) .and. options%check_only) then
+                if (.not. options%quiet) write (output_unit, '(a,i0,a,i0,a)') path// &
+                    ': OK (', model%mesh%nnode, ' nodes, ', model%mesh%nelem, ' elements)'
+                return
+            end if
             if (allocated(options%out_dir)) then
                 stem = options%out_dir//'/'//strip_extension(base_name(path))
             else
                 stem = strip_extension(path)
             end if
-            call write_results(stem, model, results, error)
-        end if
-        if (allocated(error)) then
-            write (error_unit, '(a)') 'cfrd: '//error%message
-            status = error_status(error)
-            return
-        end if
-        if (.not. options%quiet) then
-            call write_summary(output_unit, model, results)
-            if (size(model%gauges) > 0) then
-                write (output_unit, '(a)') 'Results: '//stem//'.out, '//stem//'.h5, '// &
-                    stem//'-gauges.csv'
-            else
-                write (output_unit, '(a)') 'Results: '//stem//'.out, '//stem//'.h5'
+            ! Each stage goes to the files when it is done; results keeps the last only.
+            if (.not. allocated(error)) call begin_output(current%output, stem, model, error)
+            if (.not. allocated(error)) then
+                call run_analysis(model, results, error, stream_stage, last_only=.true.)
+                if (allocated(error)) then
+                    ! The analysis failed: keep its completed stages as DECK.incomplete.h5,
+                    ! unless writing them failed too.
+                    if (allocated(current%write_error)) then
+                        call discard_output(current%output)
+                    else
+                        call report_incomplete(error, stem)
+                    end if
+                else if (allocated(current%write_error)) then
+                    call move_alloc(current%write_error, error)
+                    call discard_output(current%output)
+                else
+                    call finish_output(current%output, model, results%stages(1), &
+                                       results%wall_time, error)
+                end if
             end if
-        end if
+            if (allocated(error)) then
+                write (error_unit, '(a)') 'cfrd: '//error%message
+                status = error_status(error)
+                return
+            end if
+            if (.not. options%quiet) then
+                call write_summary(output_unit, model, &
+                                   current%output%summaries(1:current%output%completed), &
+                                   results%stages(1), results%wall_time)
+                write (output_unit, '(a)', advance='no') 'Results: '//stem//'.out, '// &
+                    stem//'.h5, '//stem//'.xmf'
+                if (size(model%gauges) > 0) then
+                    write (output_unit, '(a)') ', '//stem//'-gauges.csv'
+                else
+                    write (output_unit, '(a)') ''
+                end if
+            end if
+        end associate
     end subroutine run_deck
 
-    !> One line per stage on the terminal.
-    subroutine print_progress(number, total, stage)
+    !> A fresh run: no model, no files, no error.
+    subroutine new_run(run)
+        type(current_run_t), intent(out) :: run
+    end subroutine new_run
+
+    !> Keep the completed stages of a failed analysis; the analysis error stays the run's
+    !> error (a failure to write the incomplete file is reported beside it).
+    subroutine report_incomplete(error, stem)
+        type(error_t), intent(in) :: error
+        character(len=*), intent(in) :: stem
+        type(error_t), allocatable :: keep_error
+        call keep_incomplete(current%output, current%model, error%message, keep_error)
+        if (allocated(keep_error)) then
+            write (error_unit, '(a)') 'cfrd: '//keep_error%message
+        else if (.not. options%quiet) then
+            write (error_unit, '(a,i0,a)') 'cfrd: the ', current%output%completed, &
+                ' completed stages are in '//stem//'.incomplete.h5 (complete = 0)'
+        end if
+    end subroutine report_incomplete
+
+    !> After each stage: write it to the result files, then print its progress line.
+    subroutine stream_stage(number, total, stage)
         integer, intent(in) :: number, total
         type(stage_result_t), intent(in) :: stage
+        type(error_t), allocatable :: error
+        if (.not. allocated(current%write_error)) then
+            call add_stage(current%output, current%model, number, stage, error)
+            if (allocated(error)) call move_alloc(error, current%write_error)
+        end if
+        if (options%quiet) return
         write (output_unit, '(a,i0,a,i0,2a,i0,a,i0,a,i0,a,i0,a,es9.2,a,f8.3,a)') '  stage ', &
             number, '/', total, ': ', stage%name//', ', stage%increments, ' increments, ', &
             stage%factorisations, ' factorisations, ', stage%iterations, ' iterations, ', &
             stage%cutbacks, ' cutbacks, residual', stage%max_residual, ',', stage%wall_time, &
             ' s'
         flush (output_unit)
-    end subroutine print_progress
-
-    !> Write the result files under temporary names, then rename them into place, so that a
-    !> failed run leaves the results of an earlier run untouched.
-    subroutine write_results(stem, model, results, error)
-        character(len=*), intent(in) :: stem
-        type(model_t), intent(in) :: model
-        type(results_t), intent(in) :: results
-        type(error_t), allocatable, intent(out) :: error
-        character(len=*), parameter :: part = '.part'
-        character(len=*), parameter :: csv(4) = [character(len=14) :: '-gauges.csv', &
-                                                 '-interface.csv', '-openings.csv', '-slab.csv']
-        logical :: written(4)
-        integer :: k
-        written = [size(model%gauges) > 0, has_interfaces(model), has_interfaces(model), &
-                   has_slab(model)]
-        call write_listing(stem//'.out'//part, model, results, error)
-        if (.not. allocated(error)) call write_results_h5(stem//'.h5'//part, model, results, &
-                                                          error)
-        if (.not. allocated(error) .and. written(1)) &
-            call write_gauge_csv(stem//'-gauges.csv'//part, model, results, error)
-        if (.not. allocated(error)) call write_interface_csv(stem, part, model, results, error)
-        if (.not. allocated(error)) call move_file(stem//'.out'//part, stem//'.out', error)
-        if (.not. allocated(error)) call move_file(stem//'.h5'//part, stem//'.h5', error)
-        do k = 1, size(csv)
-            if (.not. allocated(error) .and. written(k)) &
-                call move_file(stem//trim(csv(k))//part, stem//trim(csv(k)), error)
-        end do
-        if (allocated(error)) then
-            call delete_file(stem//'.out'//part)
-            call delete_file(stem//'.h5'//part)
-            do k = 1, size(csv)
-                call delete_file(stem//trim(csv(k))//part)
-            end do
-        end if
-    end subroutine write_results
+    end subroutine stream_stage
 
     subroutine parse_command_line(options, decks, error)
         type(options_t), intent(out) :: options
@@ -197,8 +213,10 @@ contains
         write (output_unit, '(a)') &
             'Usage: cfrd [options] DECK [DECK ...]', &
             '', &
-            'Runs each card deck (docs/cards.md) and writes DECK.out (listing) and DECK.h5', &
-            '(results, docs/results.md) beside it, or in --out DIR.', &
+            'Runs each card deck (docs/cards.md) and writes DECK.out (listing), DECK.h5', &
+            '(results, docs/results.md) and DECK.xmf (for ParaView) beside it, or in', &
+            '--out DIR. A failed analysis keeps its completed stages in', &
+            'DECK.incomplete.h5 and leaves earlier results untouched.', &
             '', &
             'Options:', &
             '  --check       read and validate the decks only', &

@@ -10,8 +10,11 @@ module test_io_results
     use cfrd_testing, only: unittest_t, new_unittest, check, fail
     use cfrd_model, only: model_t, gauge_t
     use cfrd_results, only: results_t
-    use cfrd_hdf5, only: write_results_h5
+    use cfrd_hdf5, only: write_results_h5, results_file_t, open_results_h5, write_stage_h5, &
+                         close_results_h5
+    use cfrd_xdmf, only: xml_escape
     use cfrd_listing, only: write_listing, write_gauge_csv
+    use cfrd_stage_summary, only: summarise_run
     use cfrd_test_models, only: new_model, elastic_material
     implicit none
     private
@@ -26,6 +29,8 @@ contains
         type(unittest_t), allocatable, intent(out) :: tests(:)
         tests = [ &
                 new_unittest('hdf5_round_trip', test_hdf5_round_trip), &
+                new_unittest('hdf5_streamed_incomplete', test_hdf5_incomplete), &
+                new_unittest('xml_escape', test_xml_escape), &
                 new_unittest('listing_tables', test_listing), &
                 new_unittest('gauge_csv', test_gauge_csv), &
                 new_unittest('unwritable_path_is_io_error', test_unwritable) &
@@ -59,6 +64,7 @@ contains
             s%reaction(:, 1:3) = reshape([1.5_dp, 10.0_dp, -0.5_dp, 20.0_dp, -1.0_dp, 12.0_dp], &
                                          [2, 3])
             s%stress_gauss = reshape([(-1.0_dp*i, i=1, 32)], [4, 4, 2])
+            s%history_gauss = reshape([(0.01_dp*i, i=1, 16)], [2, 4, 2])
             s%stress_centroid = reshape([(-2.0_dp*i, i=1, 8)], [4, 2])
             s%principal = reshape([(-3.0_dp*i, i=1, 6)], [3, 2])
             s%reaction_sum = [0.0_dp, 42.0_dp]
@@ -127,6 +133,109 @@ contains
         end associate
     end subroutine test_hdf5_round_trip
 
+    !> A run that stops after its first of two stages: the file closed without `complete`
+    !> says so (complete = 0, stages_completed = 1, stages_total = 2, the failure) and its
+    !> stage reads back bit for bit, with the history and the z-padded displacements; the
+    !> file written whole says complete = 1.
+    subroutine test_hdf5_incomplete(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(model_t) :: model
+        type(results_t) :: results
+        type(results_file_t) :: file
+        integer(hid_t) :: file_id
+        real(dp) :: history(2, 4, 2), u3(3, 6)
+        integer :: complete, completed, total, hdferr
+        call sample(model, results)
+        model%stages = [model%stages(1), model%stages(1)]
+        call execute_command_line('mkdir -p '//dir)
+        call open_results_h5(file, dir//'partial.h5', model, error)
+        if (.not. allocated(error)) call write_stage_h5(file, 1, results%stages(1), error)
+        if (allocated(error)) then
+            call close_results_h5(file, .false.)
+            return
+        end if
+        call close_results_h5(file, .false., error, failure='stopped by the test')
+        if (allocated(error)) return
+        call h5open_f(hdferr)
+        call h5fopen_f(dir//'partial.h5', H5F_ACC_RDONLY_F, file_id, hdferr)
+        if (hdferr < 0) then
+            call fail(error, 'cannot open the partial file')
+            return
+        end if
+        complete = read_int_attr(file_id, '.', 'complete')
+        completed = read_int_attr(file_id, '.', 'stages_completed')
+        total = read_int_attr(file_id, '.', 'stages_total')
+        call read_real3(file_id, 'stages/stage_0001/history_gauss', history)
+        call read_real2(file_id, 'stages/stage_0001/displacement_total_xyz', u3)
+        call h5fclose_f(file_id, hdferr)
+        call h5close_f(hdferr)     ! the writer opens and closes the library itself
+        call check(error, complete, 0, 'complete of a file closed incomplete')
+        if (allocated(error)) return
+        call check(error, completed, 1, 'stages_completed')
+        if (allocated(error)) return
+        call check(error, total, 2, 'stages_total')
+        if (allocated(error)) return
+        call check(error, all(history == results%stages(1)%history_gauss), &
+                   'Gauss-point history read back')
+        if (allocated(error)) return
+        call check(error, all(u3(1:2, :) == results%stages(1)%displacement_total) .and. &
+                   all(u3(3, :) == 0.0_dp), 'displacement_total_xyz = (ux, uy, 0)')
+        if (allocated(error)) return
+        call write_results_h5(dir//'whole.h5', model, results, error)
+        if (allocated(error)) return
+        call h5open_f(hdferr)
+        call h5fopen_f(dir//'whole.h5', H5F_ACC_RDONLY_F, file_id, hdferr)
+        complete = read_int_attr(file_id, '.', 'complete')
+        call h5fclose_f(file_id, hdferr)
+        call h5close_f(hdferr)
+        call check(error, complete, 1, 'complete of a file written whole')
+    contains
+        integer function read_int_attr(loc, object, name) result(value)
+            integer(hid_t), intent(in) :: loc
+            character(len=*), intent(in) :: object, name
+            integer(hid_t) :: attr_id
+            integer :: err
+            value = -1
+            call h5aopen_by_name_f(loc, object, name, attr_id, err)
+            if (err < 0) return
+            call h5aread_f(attr_id, H5T_NATIVE_INTEGER, value, [1_hsize_t], err)
+            call h5aclose_f(attr_id, err)
+        end function read_int_attr
+
+        subroutine read_real3(loc, name, values)
+            integer(hid_t), intent(in) :: loc
+            character(len=*), intent(in) :: name
+            real(dp), intent(out) :: values(:, :, :)
+            integer(hid_t) :: dset_id
+            integer :: err
+            values = -1.0_dp
+            call h5dopen_f(loc, name, dset_id, err)
+            if (err < 0) return
+            call h5dread_f(dset_id, H5T_NATIVE_DOUBLE, values, shape(values, kind=hsize_t), err)
+            call h5dclose_f(dset_id, err)
+        end subroutine read_real3
+
+        subroutine read_real2(loc, name, values)
+            integer(hid_t), intent(in) :: loc
+            character(len=*), intent(in) :: name
+            real(dp), intent(out) :: values(:, :)
+            integer(hid_t) :: dset_id
+            integer :: err
+            values = -1.0_dp
+            call h5dopen_f(loc, name, dset_id, err)
+            if (err < 0) return
+            call h5dread_f(dset_id, H5T_NATIVE_DOUBLE, values, shape(values, kind=hsize_t), err)
+            call h5dclose_f(dset_id, err)
+        end subroutine read_real2
+    end subroutine test_hdf5_incomplete
+
+    !> XML's five special characters in a stage label or title are escaped (XML 1.0, 2.4).
+    subroutine test_xml_escape(error)
+        type(error_t), allocatable, intent(out) :: error
+        call check(error, xml_escape('FILL <B1> "a" & ''b''') == &
+                   'FILL &lt;B1&gt; &quot;a&quot; &amp; &apos;b&apos;', 'escaped text')
+    end subroutine test_xml_escape
+
     !> The listing prints the reaction sums and a node's displacement: read them back.
     subroutine test_listing(error)
         type(error_t), allocatable, intent(out) :: error
@@ -138,7 +247,8 @@ contains
         logical :: found_sum, found_node
         call sample(model, results)
         call execute_command_line('mkdir -p '//dir)
-        call write_listing(dir//'sample.out', model, results, error)
+        call write_listing(dir//'sample.out', model, summarise_run(model, results), &
+                           results%stages(1), results%wall_time, error)
         if (allocated(error)) return
         found_sum = .false.
         found_node = .false.
@@ -182,7 +292,8 @@ contains
         integer :: unit, comma(5), k, pos
         call sample(model, results)
         call execute_command_line('mkdir -p '//dir)
-        call write_gauge_csv(dir//'sample-gauges.csv', model, results, error)
+        call write_gauge_csv(dir//'sample-gauges.csv', model, summarise_run(model, results), &
+                             error)
         if (allocated(error)) return
         open (newunit=unit, file=dir//'sample-gauges.csv', status='old', action='read')
         read (unit, '(a)') header
@@ -213,7 +324,8 @@ contains
         type(results_t) :: results
         integer :: category
         call sample(model, results)
-        call write_listing(dir//'no/such/dir/x.out', model, results, error)
+        call write_listing(dir//'no/such/dir/x.out', model, summarise_run(model, results), &
+                           results%stages(1), results%wall_time, error)
         if (.not. allocated(error)) then
             call fail(error, 'listing into a missing directory succeeded')
             return

@@ -3,12 +3,13 @@
 the dam section at one stage, like Figure 7 of the paper, and the gauge histories against
 time, like its Figures 9 and 10.
 
-    python3 tools/plot_section.py RESULTS.h5 --out outputs/tianshengqiao-settlement.png
+    python3 tools/plot_section.py RESULTS.h5 --out settlement.png
     python3 tools/plot_section.py RESULTS.h5 --what ux --out ux.png
-    python3 tools/plot_section.py RESULTS.h5 --histories outputs/tianshengqiao-gauges.png
+    python3 tools/plot_section.py RESULTS.h5 --histories gauges.png
 
 Displacements are those since each node's placement (dataset displacement_total), in cm
-as in the paper; only the elements active at the stage are drawn.
+as in the paper; only the elements active at the stage are drawn. tools/figures.py draws
+these and the interface figures for a deck in one command.
 """
 
 import argparse
@@ -23,7 +24,7 @@ import matplotlib.tri as mtri  # noqa: E402
 
 
 def text(value):
-    return value.decode() if isinstance(value, bytes) else value
+    return value.decode() if isinstance(value, bytes) else str(value)
 
 
 def read(path, stage=None):
@@ -35,90 +36,124 @@ def read(path, stage=None):
         g = h5["stages"][name]
         u = g["displacement_total"][...]
         active = g["active"][...].astype(bool)
-        attrs = {k: text(g.attrs[k]) for k in g.attrs}
+        attrs = {k: text(g.attrs[k]) if isinstance(g.attrs[k], (bytes, str)) else g.attrs[k]
+                 for k in g.attrs}
         title = text(h5.attrs["title"])
     return xy, conn, u, active, attrs, title, name
 
 
-def section_plot(path, what, out, stage=None):
+def section_field(path, what="settlement", stage=None):
+    """The contoured field of one stage: settlement (cm, + down) or ux (cm, + downstream)
+    at the nodes, on the active quads split in triangles; `used` are the nodes drawn."""
     xy, conn, u, active, attrs, title, name = read(path, stage)
     quads = conn[active]
-    tris = np.vstack([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])
-    used = np.unique(quads)
-    tri = mtri.Triangulation(xy[:, 0], xy[:, 1], tris)
     if what == "settlement":
         value, label = -u[:, 1] * 100.0, "settlement (cm)"
     else:
         value, label = u[:, 0] * 100.0, "horizontal displacement (cm, + downstream)"
-    fig, ax = plt.subplots(figsize=(12, 4.8))
+    return dict(xy=xy, quads=quads, used=np.unique(quads), value=value, label=label,
+                attrs=attrs, title=title, name=name, what=what)
+
+
+def draw_section(ax, field):
+    """Filled contours with labelled lines, the outline of the active part, the extreme
+    value starred, the reservoir level; returns the filled contour set."""
+    xy, quads, used, value = field["xy"], field["quads"], field["used"], field["value"]
+    tris = np.vstack([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])
+    # Joints and repeated-node triangles are degenerate: drop zero-area triangles.
+    p = xy[tris]
+    area = (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - \
+        (p[:, 2, 0] - p[:, 0, 0]) * (p[:, 1, 1] - p[:, 0, 1])
+    tri = mtri.Triangulation(xy[:, 0], xy[:, 1], tris[np.abs(area) > 1e-12])
     levels = np.linspace(value[used].min(), value[used].max(), 15)
-    filled = ax.tricontourf(tri, value, levels=levels, cmap="viridis_r" if what ==
-                            "settlement" else "coolwarm")
+    settlement = field["what"] == "settlement"
+    filled = ax.tricontourf(tri, value, levels=levels,
+                            cmap="viridis_r" if settlement else "coolwarm")
     lines = ax.tricontour(tri, value, levels=levels[::2], colors="k", linewidths=0.5)
     ax.clabel(lines, fmt="%.0f", fontsize=7)
     edges = set()
     for q in quads:
         for k in range(4):
             e = tuple(sorted((q[k], q[(k + 1) % 4])))
-            edges.symmetric_difference_update({e})
+            if e[0] != e[1]:
+                edges.symmetric_difference_update({e})
     for a, b in edges:
         ax.plot(xy[[a, b], 0], xy[[a, b], 1], "k-", lw=0.8)
-    k = used[np.argmax(value[used])] if what == "settlement" else used[np.argmax(np.abs(value[used]))]
+    k = used[np.argmax(value[used])] if settlement else used[np.argmax(np.abs(value[used]))]
     ax.plot(*xy[k], "r*", ms=10)
     ax.annotate(f"{value[k]:.0f} cm at El. {xy[k, 1]:.0f} m", xy[k], xytext=(10, 10),
                 textcoords="offset points", color="r")
-    level = attrs.get("water_level")
+    level = field["attrs"].get("water_level")
     if level is not None:
         ax.axhline(float(np.ravel(level)[0]), xmax=0.4, color="tab:blue", lw=1)
     ax.set_aspect("equal")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("elevation (m)")
-    date = attrs.get("date", "")
-    ax.set_title(f"{title}\n{label}, {name} {attrs.get('name', '')} {date}", fontsize=9)
-    fig.colorbar(filled, ax=ax, shrink=0.8, label=label)
-    fig.tight_layout()
+    attrs = field["attrs"]
+    ax.set_title(f"{field['title']}\n{field['label']}, {field['name']} "
+                 f"{attrs.get('name', '')} {attrs.get('date', '')}", fontsize=9)
+    return filled
+
+
+def section_plot(path, what, out, stage=None, note=None):
+    field = section_field(path, what, stage)
+    fig, ax = plt.subplots(figsize=(12, 4.8))
+    filled = draw_section(ax, field)
+    fig.colorbar(filled, ax=ax, shrink=0.8, label=field["label"])
+    if note:
+        fig.text(0.5, 0.01, note, ha="center", fontsize=8, color="0.25")
+    fig.tight_layout(rect=(0, 0.04 if note else 0, 1, 1))
     fig.savefig(out, dpi=110)
+    return fig, field
 
 
 def month_number(date):
     """'1997.05' (or '1997-05') -> 1997.33 (years, start of the month)."""
-    text = date.replace("-", ".")
-    return int(text[:4]) + (int(text[5:7]) - 1) / 12.0
+    date = date.replace("-", ".")
+    return int(date[:4]) + (int(date[5:7]) - 1) / 12.0
 
 
-def histories_plot(path, out):
+def gauge_histories(path):
+    """Per dated stage: time (years), and ux and settlement (cm) at each gauge."""
     with h5py.File(path, "r") as h5:
-        names = [n.decode() if isinstance(n, bytes) else str(n)
-                 for n in h5["gauges/names"][...]]
+        names = [text(n).strip() for n in h5["gauges/names"][...]]
         nodes = h5["gauges/nodes"][...] - 1
-        stages = sorted(h5["stages"])
         t, ux, sett = [], [], []
-        for s in stages:
+        for s in sorted(h5["stages"]):
             g = h5["stages"][s]
-            date = g.attrs.get("date", "")
-            date = date.decode() if isinstance(date, bytes) else str(date)
+            date = text(g.attrs.get("date", "")).strip()
             if not date:
                 continue
             u = g["displacement_total"][...]
             t.append(month_number(date))
             ux.append(u[nodes, 0] * 100)
             sett.append(-u[nodes, 1] * 100)
-    t, ux, sett = np.array(t), np.array(ux), np.array(sett)
+    return names, np.array(t), np.array(ux), np.array(sett)
+
+
+def histories_plot(path, out, note=None):
+    """Settlement of the V gauges and horizontal displacement of the others against time."""
+    names, t, ux, sett = gauge_histories(path)
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.2))
     for k, name in enumerate(names):
-        name = name.strip()
         if "-V" in name:
             axes[0].plot(t, sett[:, k], "o-", ms=3, label=name)
         else:
             axes[1].plot(t, ux[:, k], "o-", ms=3, label=name)
-    axes[0].set_title("settlement along the interface (cm)")
-    axes[1].set_title("horizontal displacement along the interface (cm, + downstream)")
+    axes[0].set_title("settlement along the interface (cf. paper Fig. 9)")
+    axes[0].set_ylabel("settlement (cm, + down)")
+    axes[1].set_title("horizontal displacement along the interface (cf. paper Fig. 10)")
+    axes[1].set_ylabel("horizontal displacement (cm, + downstream)")
     for ax in axes:
         ax.set_xlabel("year")
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
-    fig.tight_layout()
+        if ax.get_lines():
+            ax.legend(fontsize=8)
+    if note:
+        fig.text(0.5, 0.01, note, ha="center", fontsize=8, color="0.25")
+    fig.tight_layout(rect=(0, 0.04 if note else 0, 1, 1))
     fig.savefig(out, dpi=110)
+    return fig
 
 
 def main():

@@ -105,6 +105,10 @@ tool_checks "eb plane strain" python3 tools/eb_reference.py --check-cfrd "$cfrd"
 
 tool_checks "tianshengqiao" python3 tools/check_tianshengqiao.py --run "$cfrd" \
     --workdir "$work/tianshengqiao"
+# The XDMF file read back through an independent reader (meshio) against the HDF5 datasets.
+tool_checks "xdmf" python3 tools/check_xdmf.py --run "$cfrd" --workdir "$work/xdmf"
+# The figures plot what the HDF5 file holds (tools/figures.py --data against h5py reads).
+tool_checks "figures" python3 tools/check_figures.py --run "$cfrd" --workdir "$work/figures"
 
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

@@ -87,19 +87,25 @@ module cfrd_stage_driver
 
 contains
 
-    !> Run every stage of the model.
-    subroutine run_analysis(model, results, error, progress)
+    !> Run every stage of the model. With `last_only`, results%stages holds the last stage
+    !> only (each stage is handed to `progress`, which may write it away), so that memory
+    !> does not grow with the number of stages.
+    subroutine run_analysis(model, results, error, progress, last_only)
         type(model_t), intent(in) :: model
         type(results_t), intent(out) :: results
         type(error_t), allocatable, intent(out) :: error
         procedure(progress_interface), optional :: progress
+        logical, intent(in), optional :: last_only
         type(element_box_t), allocatable :: library(:)
         type(state_t) :: state
         type(system_t) :: system
         real(dp) :: t_start
-        integer :: s
+        integer :: s, k
+        logical :: keep_all
 
         t_start = wall_seconds()
+        keep_all = .true.
+        if (present(last_only)) keep_all = .not. last_only
         call make_elements(model, library, error)
         if (allocated(error)) return
         call initial_state(model, state)
@@ -107,11 +113,12 @@ contains
             state%has_contact = size(model%contact_pairs) > 0
             if (state%has_contact) call new_contact(model, state%contact)
         end if
-        allocate (results%stages(size(model%stages)))
+        allocate (results%stages(merge(size(model%stages), 1, keep_all)))
         do s = 1, size(model%stages)
-            call run_stage(model, library, s, state, system, results%stages(s), error)
+            k = merge(s, 1, keep_all)
+            call run_stage(model, library, s, state, system, results%stages(k), error)
             if (allocated(error)) return
-            if (present(progress)) call progress(s, size(model%stages), results%stages(s))
+            if (present(progress)) call progress(s, size(model%stages), results%stages(k))
         end do
         results%wall_time = wall_seconds() - t_start
     end subroutine run_analysis
@@ -924,6 +931,7 @@ contains
             result%displacement_total = state%u_before_reset + state%u
             result%stress_gauss = state%stress
             result%strain_gauss = state%strain
+            result%history_gauss = state%history
             if (allocated(model%interfaces)) then
                 call interface_stations(model, state%stress, state%strain, state%active, &
                                         result%interface)

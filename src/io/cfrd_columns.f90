@@ -1,13 +1,24 @@
 !> Column texts shared by the listing and the CSV writers: a stage's date and reservoir
-!> level in fixed columns, and reals for CSV.
+!> level in fixed columns (from its full results or from its summary), and reals for CSV.
 module cfrd_columns
     use cfrd_kinds, only: dp
     use cfrd_model, only: dry_level
     use cfrd_results, only: stage_result_t
+    use cfrd_stage_summary, only: stage_summary_t
     implicit none
     private
 
     public :: csv_real, date_of, level_of
+
+    !> The stage's date in 10 columns ('-' when it has none).
+    interface date_of
+        module procedure date_of_result, date_of_summary
+    end interface date_of
+
+    !> The reservoir level in 10 columns ('empty' before the first WATER stage).
+    interface level_of
+        module procedure level_of_result, level_of_summary
+    end interface level_of
 
 contains
 
@@ -20,24 +31,46 @@ contains
         text = trim(adjustl(buffer))
     end function csv_real
 
-    !> The stage's date in 10 columns ('-' when it has none).
-    function date_of(stage) result(text)
+    function date_of_result(stage) result(text)
         type(stage_result_t), intent(in) :: stage
         character(len=10) :: text
         text = '-'
-        if (allocated(stage%date)) then
-            if (len(stage%date) > 0) text = stage%date
-        end if
-    end function date_of
+        if (allocated(stage%date)) text = date_text(stage%date)
+    end function date_of_result
 
-    !> The reservoir level in 10 columns ('empty' before the first WATER stage).
-    function level_of(stage) result(text)
+    function date_of_summary(stage) result(text)
+        type(stage_summary_t), intent(in) :: stage
+        character(len=10) :: text
+        text = '-'
+        if (allocated(stage%date)) text = date_text(stage%date)
+    end function date_of_summary
+
+    pure function date_text(date) result(text)
+        character(len=*), intent(in) :: date
+        character(len=10) :: text
+        text = '-'
+        if (len(date) > 0) text = date
+    end function date_text
+
+    function level_of_result(stage) result(text)
         type(stage_result_t), intent(in) :: stage
         character(len=10) :: text
-        if (stage%water_level == dry_level) then
+        text = level_text(stage%water_level)
+    end function level_of_result
+
+    function level_of_summary(stage) result(text)
+        type(stage_summary_t), intent(in) :: stage
+        character(len=10) :: text
+        text = level_text(stage%water_level)
+    end function level_of_summary
+
+    pure function level_text(level) result(text)
+        real(dp), intent(in) :: level
+        character(len=10) :: text
+        if (level == dry_level) then
             text = '     empty'
         else
-            write (text, '(f10.2)') stage%water_level
+            write (text, '(f10.2)') level
         end if
-    end function level_of
+    end function level_text
 end module cfrd_columns

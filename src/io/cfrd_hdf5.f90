@@ -1,25 +1,47 @@
-!> The HDF5 results file (layout in docs/results.md): the deck, the mesh, and one group per
-!> stage with displacements, reactions, Gauss-point and centroid stresses, principal stresses
-!> and the solver's figures, each with its units. Every HDF5 status is checked; the first
-!> failure is carried in `h5_state_t` (so later calls are skipped) and becomes an error naming
-!> the object, after everything opened has been closed.
+!> The HDF5 results file (layout in docs/results.md): the deck, the program that made it,
+!> the mesh with its groups and zones, and one group per stage with displacements,
+!> reactions, Gauss-point stresses, strains and history, centroid and principal stresses,
+!> stress levels, interface and slab results and the solver's figures, each with its units.
+!> The file is written stage by stage (open_results_h5, write_stage_h5, close_results_h5)
+!> and flushed after each stage, so that memory does not grow with the stages and a run
+!> that stops half way leaves the completed stages readable; the root attribute `complete`
+!> stays 0 until close_results_h5 says otherwise. Every HDF5 status is checked; the first
+!> failure of a call is carried in `h5_state_t` (so later steps are skipped) and becomes an
+!> error naming the object; close_results_h5 closes every handle whatever failed.
 module cfrd_hdf5
+    use, intrinsic :: iso_fortran_env, only: compiler_version
     use hdf5, only: hid_t, hsize_t, h5open_f, h5close_f, h5fcreate_f, h5fclose_f, &
-                    h5gcreate_f, h5gclose_f, h5screate_simple_f, h5screate_f, h5sclose_f, &
-                    h5dcreate_f, h5dwrite_f, h5dclose_f, h5acreate_f, h5awrite_f, h5aclose_f, &
-                    h5tcopy_f, h5tset_size_f, h5tclose_f, h5eset_auto_f, &
-                    H5F_ACC_TRUNC_F, H5S_SCALAR_F, H5T_NATIVE_DOUBLE, H5T_NATIVE_INTEGER, &
+                    h5fflush_f, h5gcreate_f, h5gclose_f, h5screate_simple_f, h5screate_f, &
+                    h5sclose_f, h5dcreate_f, h5dwrite_f, h5dclose_f, h5acreate_f, &
+                    h5awrite_f, h5aclose_f, h5aopen_f, h5aexists_f, h5tcopy_f, &
+                    h5tset_size_f, h5tclose_f, h5eset_auto_f, H5F_ACC_TRUNC_F, &
+                    H5F_SCOPE_GLOBAL_F, H5S_SCALAR_F, H5T_NATIVE_DOUBLE, H5T_NATIVE_INTEGER, &
                     H5T_NATIVE_CHARACTER
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, io_error
     use cfrd_version, only: cfrd_version_string
-    use cfrd_model, only: model_t, stage_kind_name, dry_level
+    use cfrd_model, only: model_t, stage_kind_name, dry_level, law_name
     use cfrd_results, only: results_t, stage_result_t
     use cfrd_interface_io, only: has_interfaces, has_slab
     implicit none
     private
 
-    public :: write_results_h5
+    public :: results_file_t, open_results_h5, write_stage_h5, close_results_h5
+    public :: write_results_h5, layout_version
+
+    !> Version of the layout of docs/results.md (2: streamed, `complete`, history, XDMF
+    !> helpers, zones).
+    integer, parameter :: layout_version = 2
+
+    !> A results file open for writing, one stage after another.
+    type :: results_file_t
+        integer(hid_t) :: file_id = -1       !! -1: not open
+        integer(hid_t) :: stages_id = -1     !! the /stages group
+        integer :: stages_written = 0
+        logical :: interfaces = .false.      !! the deck has interface elements
+        logical :: slab = .false.            !! the deck has SLAB groups
+        character(len=:), allocatable :: path
+    end type results_file_t
 
     !> The first failure of a sequence of HDF5 calls.
     type :: h5_state_t
@@ -29,52 +51,85 @@ module cfrd_hdf5
 
 contains
 
-    !> Write the results of a run to `path` (replacing it).
+    !> Write the results of a run held in memory to `path` (replacing it), complete.
     subroutine write_results_h5(path, model, results, error)
         character(len=*), intent(in) :: path
         type(model_t), intent(in) :: model
         type(results_t), intent(in) :: results
         type(error_t), allocatable, intent(out) :: error
-        type(h5_state_t) :: st
-        integer(hid_t) :: file_id, group_id, stages_id, stage_id, solver_id
-        integer :: hdferr, s
-        character(len=16) :: stage_name
+        type(results_file_t) :: file
+        integer :: s
+        call open_results_h5(file, path, model, error)
+        do s = 1, size(results%stages)
+            if (allocated(error)) exit
+            call write_stage_h5(file, s, results%stages(s), error)
+        end do
+        if (allocated(error)) then
+            call close_results_h5(file, .false.)
+        else
+            call close_results_h5(file, .true., error, wall_time=results%wall_time)
+        end if
+    end subroutine write_results_h5
 
+    !> Create the results file at `path` (replacing it) with the run's description, the
+    !> deck and the mesh, `complete` = 0 and no stage yet. After an error, call
+    !> close_results_h5 all the same: it closes what was opened.
+    subroutine open_results_h5(file, path, model, error)
+        type(results_file_t), intent(out) :: file
+        character(len=*), intent(in) :: path
+        type(model_t), intent(in) :: model
+        type(error_t), allocatable, intent(out) :: error
+        type(h5_state_t) :: st
+        integer(hid_t) :: group_id
+        integer :: hdferr, m, width
+        character(len=:), allocatable :: labels(:), laws(:)
+
+        file%path = path
+        file%interfaces = has_interfaces(model)
+        file%slab = has_slab(model)
         call h5open_f(hdferr)
         if (hdferr < 0) then
             call fatal_error(error, 'cannot initialise the HDF5 library', io_error)
             return
         end if
         call h5eset_auto_f(0, hdferr)   ! our messages, not HDF5's error stack on stderr
-        call h5fcreate_f(path, H5F_ACC_TRUNC_F, file_id, hdferr)
+        call h5fcreate_f(path, H5F_ACC_TRUNC_F, file%file_id, hdferr)
         if (hdferr < 0) then
+            file%file_id = -1
             call h5close_f(hdferr)
             call fatal_error(error, 'cannot create the results file '//path, io_error)
             return
         end if
 
-        call attr_text(file_id, 'program', 'cfrd', st)
-        call attr_text(file_id, 'version', cfrd_version_string, st)
-        call attr_text(file_id, 'title', model%title, st)
-        call attr_text(file_id, 'deck_file', model%deck_file, st)
-        call attr_text(file_id, 'created', timestamp(), st)
-        call attr_text(file_id, 'units', 'm, kN, kPa', st)
-        call attr_text(file_id, 'sign_convention', &
+        call attr_text(file%file_id, 'program', 'cfrd', st)
+        call attr_text(file%file_id, 'version', cfrd_version_string, st)
+        call attr_text(file%file_id, 'compiler', compiler_version(), st)
+        call attr_int(file%file_id, 'layout_version', layout_version, st)
+        call attr_text(file%file_id, 'title', model%title, st)
+        call attr_text(file%file_id, 'deck_file', model%deck_file, st)
+        call attr_text(file%file_id, 'created', timestamp(), st)
+        call attr_text(file%file_id, 'units', 'm, kN, kPa', st)
+        call attr_text(file%file_id, 'sign_convention', &
                        'tension positive; stress components xx, yy, zz, xy', st)
-        call attr_text(file_id, 'numbering', &
+        call attr_text(file%file_id, 'numbering', &
                        'node and element numbers are 1-based as in the deck', st)
+        call attr_int(file%file_id, 'stages_total', size(model%stages), st)
+        call attr_int(file%file_id, 'stages_completed', 0, st)
+        call attr_int(file%file_id, 'complete', 0, st)
 
-        call open_group(file_id, 'input', group_id, st)
+        call open_group(file%file_id, 'input', group_id, st)
         call dataset_text(group_id, 'deck', model%deck_text, st)
         call close_group(group_id, st)
 
-        call open_group(file_id, 'mesh', group_id, st)
+        call open_group(file%file_id, 'mesh', group_id, st)
         call dataset_real2(group_id, 'coordinates', model%mesh%x, 'm', 'x, y', st)
         call dataset_int2(group_id, 'connectivity', model%mesh%conn, st)
+        ! XDMF (ParaView) numbers nodes from 0 and reads datasets as they are.
+        call dataset_int2(group_id, 'connectivity_zero_based', model%mesh%conn - 1, st)
         call dataset_int1(group_id, 'material', model%mesh%material, st)
         call dataset_int1(group_id, 'group', model%mesh%group, st)
         call dataset_int1(group_id, 'kind', model%mesh%kind, st)
-        if (has_interfaces(model)) then
+        if (file%interfaces) then
             call dataset_int1(group_id, 'interface_elements', model%interfaces%element, st)
             call dataset_int1(group_id, 'interface_lines', model%interfaces%line, st)
             call dataset_int1(group_id, 'interface_method', model%interfaces%method, st)
@@ -82,92 +137,179 @@ contains
         if (size(model%mesh%group_name) > 0) then
             call dataset_names(group_id, 'group_names', model%mesh%group_name, st)
         end if
+        ! The zones: each material's label (IIA, IIIB, ... in the Tianshengqiao-I decks).
+        if (size(model%materials) > 0) then
+            width = 1
+            do m = 1, size(model%materials)
+                width = max(width, len(model%materials(m)%label), &
+                            len(law_name(model%materials(m)%law)))
+            end do
+            allocate (character(len=width) :: labels(size(model%materials)), &
+                      laws(size(model%materials)))
+            do m = 1, size(model%materials)
+                labels(m) = model%materials(m)%label
+                laws(m) = law_name(model%materials(m)%law)
+            end do
+            call dataset_names(group_id, 'material_names', labels, st)
+            call dataset_names(group_id, 'material_laws', laws, st)
+        end if
         call close_group(group_id, st)
 
-        call open_group(file_id, 'stages', stages_id, st)
-        do s = 1, size(results%stages)
-            write (stage_name, '(a,i4.4)') 'stage_', s
-            associate (stage => results%stages(s))
-                call open_group(stages_id, trim(stage_name), stage_id, st)
-                call attr_text(stage_id, 'name', stage%name, st)
-                call attr_text(stage_id, 'kind', stage_kind_name(stage%kind), st)
-                if (allocated(stage%date)) call attr_text(stage_id, 'date', stage%date, st)
-                call attr_int(stage_id, 'reservoir_empty', &
-                              merge(1, 0, stage%water_level == dry_level), st)
-                if (stage%water_level /= dry_level) &
-                    call attr_real(stage_id, 'water_level', [stage%water_level], st)
-                call attr_int(stage_id, 'increments', stage%increments, st)
-                call attr_int(stage_id, 'factorisations', stage%factorisations, st)
-                call attr_int(stage_id, 'iterations', stage%iterations, st)
-                call attr_int(stage_id, 'cutbacks', stage%cutbacks, st)
-                call attr_real(stage_id, 'max_residual', [stage%max_residual], st)
-                call attr_real(stage_id, 'wall_time', [stage%wall_time], st)
-                call dataset_int1(stage_id, 'active', merge(1, 0, stage%active), st)
-                call attr_int(stage_id, 'near_failure', stage%near_failure, st)
-                call dataset_real1(stage_id, 'stress_level', stage%stress_level, '-', &
-                                   'largest Gauss-point stress level of the element', st)
-                call dataset_real2(stage_id, 'displacement', stage%displacement, 'm', &
-                                   'ux, uy', st)
-                call dataset_real2(stage_id, 'displacement_total', stage%displacement_total, &
-                                   'm', 'ux, uy since placement (RESETs added back)', st)
-                call dataset_real2(stage_id, 'reaction', stage%reaction, 'kN/m', 'rx, ry', st)
-                call dataset_real3(stage_id, 'stress_gauss', stage%stress_gauss, 'kPa', &
-                                   'xx, yy, zz, xy', st)
-                call dataset_real2(stage_id, 'stress_centroid', stage%stress_centroid, 'kPa', &
-                                   'xx, yy, zz, xy', st)
-                call dataset_real2(stage_id, 'principal', stage%principal, 'kPa, kPa, deg', &
-                                   'sigma1, sigma3, angle of sigma1 from x', st)
-                if (allocated(stage%strain_gauss)) &
-                    call dataset_real3(stage_id, 'strain_gauss', stage%strain_gauss, '-, m', &
-                                       'xx, yy, zz, xy since placement (joints: du_n, du_s '// &
-                                       'in m)', st)
-                call write_interface_stage(stage_id, model, stage, st)
-                call attr_real(stage_id, 'applied_load', stage%applied_load, st)
-                call attr_real(stage_id, 'reaction_sum', stage%reaction_sum, st)
-                call open_group(stage_id, 'solver', solver_id, st)
-                call attr_int(solver_id, 'neq', stage%stats%neq, st)
-                call attr_int(solver_id, 'nnz', stage%stats%nnz, st)
-                call attr_real(solver_id, 't_pattern', [stage%stats%t_pattern], st)
-                call attr_real(solver_id, 't_assembly', [stage%stats%t_assembly], st)
-                call attr_real(solver_id, 't_symbolic', [stage%stats%t_symbolic], st)
-                call attr_real(solver_id, 't_numeric', [stage%stats%t_numeric], st)
-                call attr_real(solver_id, 't_solve', [stage%stats%t_solve], st)
-                call attr_real(solver_id, 'rcond', [stage%stats%rcond], st)
-                call close_group(solver_id, st)
-                call close_group(stage_id, st)
-            end associate
-        end do
-        call close_group(stages_id, st)
-
         if (allocated(model%gauges)) then
-            if (size(model%gauges) > 0) call open_group(file_id, 'gauges', group_id, st)
             if (size(model%gauges) > 0) then
+                call open_group(file%file_id, 'gauges', group_id, st)
                 call dataset_names(group_id, 'names', model%gauges%name, st)
                 call dataset_int1(group_id, 'nodes', model%gauges%node, st)
                 call close_group(group_id, st)
             end if
         end if
 
-        call open_group(file_id, 'run', group_id, st)
-        call attr_real(group_id, 'wall_time', [results%wall_time], st)
-        call close_group(group_id, st)
-
-        call h5fclose_f(file_id, hdferr)
-        if (hdferr < 0) call fail(st, 'closing the file')
-        call h5close_f(hdferr)
+        call open_group(file%file_id, 'stages', file%stages_id, st)
+        call flush_file(file, st)
         if (.not. st%ok) call fatal_error(error, 'cannot write the results file '//path// &
                                           ': HDF5 failed at '//st%failed, io_error)
-    end subroutine write_results_h5
+    end subroutine open_results_h5
+
+    !> Write stage `number` (its group stage_NNNN under /stages), count it in the root
+    !> attribute `stages_completed`, and flush the file to disk.
+    subroutine write_stage_h5(file, number, stage, error)
+        type(results_file_t), intent(inout) :: file
+        integer, intent(in) :: number
+        type(stage_result_t), intent(in) :: stage
+        type(error_t), allocatable, intent(out) :: error
+        type(h5_state_t) :: st
+        integer(hid_t) :: stage_id, solver_id
+        character(len=16) :: stage_name
+        real(dp), allocatable :: u3(:, :)
+
+        if (file%stages_id < 0) then
+            call fatal_error(error, 'the results file is not open', io_error)
+            return
+        end if
+        write (stage_name, '(a,i4.4)') 'stage_', number
+        call open_group(file%stages_id, trim(stage_name), stage_id, st)
+        call attr_text(stage_id, 'name', stage%name, st)
+        call attr_text(stage_id, 'kind', stage_kind_name(stage%kind), st)
+        if (allocated(stage%date)) call attr_text(stage_id, 'date', stage%date, st)
+        call attr_int(stage_id, 'reservoir_empty', merge(1, 0, stage%water_level == dry_level), &
+                      st)
+        if (stage%water_level /= dry_level) &
+            call attr_real(stage_id, 'water_level', [stage%water_level], st)
+        call attr_int(stage_id, 'increments', stage%increments, st)
+        call attr_int(stage_id, 'factorisations', stage%factorisations, st)
+        call attr_int(stage_id, 'iterations', stage%iterations, st)
+        call attr_int(stage_id, 'cutbacks', stage%cutbacks, st)
+        call attr_real(stage_id, 'max_residual', [stage%max_residual], st)
+        call attr_real(stage_id, 'wall_time', [stage%wall_time], st)
+        call attr_int(stage_id, 'near_failure', stage%near_failure, st)
+        call attr_real(stage_id, 'applied_load', stage%applied_load, st)
+        call attr_real(stage_id, 'reaction_sum', stage%reaction_sum, st)
+        call attr_text(stage_id, 'attribute_units', 'water_level m; max_residual -; '// &
+                       'wall_time s; applied_load, reaction_sum kN/m (x, y)', st)
+        call dataset_int1(stage_id, 'active', merge(1, 0, stage%active), st)
+        call dataset_real1(stage_id, 'stress_level', stage%stress_level, '-', &
+                           'largest Gauss-point stress level of the element', st)
+        call dataset_real2(stage_id, 'displacement', stage%displacement, 'm', 'ux, uy', st)
+        call dataset_real2(stage_id, 'displacement_total', stage%displacement_total, 'm', &
+                           'ux, uy since placement (RESETs added back)', st)
+        ! Three-component copies for XDMF (ParaView's vectors have three components).
+        allocate (u3(3, size(stage%displacement, 2)), source=0.0_dp)
+        u3(1:2, :) = stage%displacement
+        call dataset_real2(stage_id, 'displacement_xyz', u3, 'm', &
+                           'ux, uy, 0 (displacement padded with z = 0 for XDMF)', st)
+        u3(1:2, :) = stage%displacement_total
+        call dataset_real2(stage_id, 'displacement_total_xyz', u3, 'm', &
+                           'ux, uy, 0 (displacement_total padded with z = 0 for XDMF)', st)
+        deallocate (u3)
+        call dataset_real2(stage_id, 'reaction', stage%reaction, 'kN/m', 'rx, ry', st)
+        call dataset_real3(stage_id, 'stress_gauss', stage%stress_gauss, 'kPa', &
+                           'xx, yy, zz, xy', st)
+        call dataset_real2(stage_id, 'stress_centroid', stage%stress_centroid, 'kPa', &
+                           'xx, yy, zz, xy', st)
+        call dataset_real2(stage_id, 'principal', stage%principal, 'kPa, kPa, deg', &
+                           'sigma1, sigma3, angle of sigma1 from x', st)
+        if (allocated(stage%strain_gauss)) &
+            call dataset_real3(stage_id, 'strain_gauss', stage%strain_gauss, '-, m', &
+                               'xx, yy, zz, xy since placement (joints: du_n, du_s in m)', st)
+        if (allocated(stage%history_gauss)) &
+            call dataset_real3(stage_id, 'history_gauss', stage%history_gauss, '-', &
+                               'past maximum of the E-B stress-state function SS = SL '// &
+                               '(sigma3/pa)^(1/4), past maximum of the stress level SL '// &
+                               '(zero for other laws)', st)
+        call write_interface_stage(stage_id, file, stage, st)
+        call open_group(stage_id, 'solver', solver_id, st)
+        call attr_int(solver_id, 'neq', stage%stats%neq, st)
+        call attr_int(solver_id, 'nnz', stage%stats%nnz, st)
+        call attr_real(solver_id, 't_pattern', [stage%stats%t_pattern], st)
+        call attr_real(solver_id, 't_assembly', [stage%stats%t_assembly], st)
+        call attr_real(solver_id, 't_symbolic', [stage%stats%t_symbolic], st)
+        call attr_real(solver_id, 't_numeric', [stage%stats%t_numeric], st)
+        call attr_real(solver_id, 't_solve', [stage%stats%t_solve], st)
+        call attr_real(solver_id, 'rcond', [stage%stats%rcond], st)
+        call close_group(solver_id, st)
+        call close_group(stage_id, st)
+        if (st%ok) then
+            file%stages_written = number
+            call set_attr_int(file%file_id, 'stages_completed', number, st)
+        end if
+        call flush_file(file, st)
+        if (.not. st%ok) call fatal_error(error, 'cannot write the results file '// &
+                                          file%path//': HDF5 failed at '//st%failed// &
+                                          ' of '//trim(stage_name), io_error)
+    end subroutine write_stage_h5
+
+    !> Close the file: with `complete`, set the root attribute `complete` to 1; `wall_time`
+    !> (s) goes to /run, `failure` (why the run stopped) to the root. Closes every handle
+    !> whatever fails; does nothing when the file is not open.
+    subroutine close_results_h5(file, complete, error, wall_time, failure)
+        type(results_file_t), intent(inout) :: file
+        logical, intent(in) :: complete
+        type(error_t), allocatable, intent(out), optional :: error
+        real(dp), intent(in), optional :: wall_time
+        character(len=*), intent(in), optional :: failure
+        type(h5_state_t) :: st
+        integer(hid_t) :: group_id
+        integer :: hdferr
+        if (file%file_id < 0) return
+        if (present(failure)) call attr_text(file%file_id, 'failure', failure, st)
+        if (present(wall_time)) then
+            call open_group(file%file_id, 'run', group_id, st)
+            call attr_real(group_id, 'wall_time', [wall_time], st)
+            call close_group(group_id, st)
+        end if
+        if (complete) call set_attr_int(file%file_id, 'complete', 1, st)
+        if (file%stages_id >= 0) then
+            call h5gclose_f(file%stages_id, hdferr)
+            if (hdferr < 0) call fail(st, 'closing /stages')
+            file%stages_id = -1
+        end if
+        call h5fclose_f(file%file_id, hdferr)
+        if (hdferr < 0) call fail(st, 'closing the file')
+        file%file_id = -1
+        call h5close_f(hdferr)
+        if (.not. st%ok .and. present(error)) call fatal_error(error, &
+            'cannot write the results file '//file%path//': HDF5 failed at '//st%failed, &
+            io_error)
+    end subroutine close_results_h5
+
+    subroutine flush_file(file, st)
+        type(results_file_t), intent(in) :: file
+        type(h5_state_t), intent(inout) :: st
+        integer :: hdferr
+        if (.not. st%ok) return
+        call h5fflush_f(file%file_id, H5F_SCOPE_GLOBAL_F, hdferr)
+        if (hdferr < 0) call fail(st, 'flushing the file')
+    end subroutine flush_file
 
     !> The stage's interface stations, openings per slab phase and slab stresses.
-    subroutine write_interface_stage(stage_id, model, stage, st)
+    subroutine write_interface_stage(stage_id, file, stage, st)
         integer(hid_t), intent(in) :: stage_id
-        type(model_t), intent(in) :: model
+        type(results_file_t), intent(in) :: file
         type(stage_result_t), intent(in) :: stage
         type(h5_state_t), intent(inout) :: st
         integer(hid_t) :: id
         integer :: n
-        if (has_interfaces(model)) then
+        if (file%interfaces) then
             call open_group(stage_id, 'interface', id, st)
             associate (r => stage%interface)
                 call dataset_real2(id, 'x', r%x, 'm', 'station 1, 2 of each interface element', st)
@@ -191,7 +333,7 @@ contains
             end if
             call close_group(id, st)
         end if
-        if (has_slab(model)) then
+        if (file%slab) then
             call open_group(stage_id, 'slab', id, st)
             associate (r => stage%slab)
                 call dataset_int1(id, 'element', r%element, st)
@@ -479,6 +621,36 @@ contains
         end if
         call h5sclose_f(space_id, hdferr)
     end subroutine attr_int
+
+    !> Set an integer attribute, creating it if it does not exist.
+    subroutine set_attr_int(loc, name, value, st)
+        integer(hid_t), intent(in) :: loc
+        character(len=*), intent(in) :: name
+        integer, intent(in) :: value
+        type(h5_state_t), intent(inout) :: st
+        integer(hid_t) :: attr_id
+        integer(hsize_t) :: dims(1) = 1
+        integer :: hdferr
+        logical :: exists
+        if (.not. st%ok) return
+        call h5aexists_f(loc, name, exists, hdferr)
+        if (hdferr < 0) then
+            call fail(st, 'attribute '//name)
+            return
+        end if
+        if (.not. exists) then
+            call attr_int(loc, name, value, st)
+            return
+        end if
+        call h5aopen_f(loc, name, attr_id, hdferr)
+        if (hdferr < 0) then
+            call fail(st, 'attribute '//name)
+            return
+        end if
+        call h5awrite_f(attr_id, H5T_NATIVE_INTEGER, [value], dims, hdferr)
+        if (hdferr < 0) call fail(st, 'attribute '//name)
+        call h5aclose_f(attr_id, hdferr)
+    end subroutine set_attr_int
 
     !> ISO 8601 local time.
     function timestamp() result(text)

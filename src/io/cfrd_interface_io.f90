@@ -2,18 +2,29 @@
 !> history, interface and slab tables, and the CSV files DECK-interface.csv (every station
 !> at every stage), DECK-openings.csv (width and depth per slab phase and stage) and
 !> DECK-slab.csv (section resultants per stage). Writers format; they compute nothing.
+!> The station and section files are written stage by stage while the analysis runs
+!> (`interface_csv_t`), the openings from the stages' summaries at the end.
 module cfrd_interface_io
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, io_error
     use cfrd_model, only: model_t, dry_level, method_name
-    use cfrd_results, only: results_t, stage_result_t, opening_t
+    use cfrd_results, only: stage_result_t, opening_t
+    use cfrd_stage_summary, only: stage_summary_t
     use cfrd_columns, only: csv_real, date_of, level_of
     use cfrd_strings, only: to_text
     implicit none
     private
 
-    public :: write_opening_history, write_interface_tables, write_interface_csv
+    public :: write_opening_history, write_interface_tables, write_openings_csv
     public :: write_opening_summary, has_interfaces, has_slab, phase_name
+    public :: interface_csv_t, open_interface_csv, append_interface_csv, close_interface_csv
+
+    !> DECK-interface.csv and DECK-slab.csv, open while the analysis runs (unit 0: the deck
+    !> has no interfaces, or no slab).
+    type :: interface_csv_t
+        integer :: interface_unit = 0, slab_unit = 0
+        character(len=:), allocatable :: interface_path, slab_path
+    end type interface_csv_t
 
 contains
 
@@ -45,10 +56,10 @@ contains
     end function phase_name
 
     !> Per stage and slab phase: opening width and depth, extreme normal stresses.
-    subroutine write_opening_history(unit, model, results)
+    subroutine write_opening_history(unit, model, summaries)
         integer, intent(in) :: unit
         type(model_t), intent(in) :: model
-        type(results_t), intent(in) :: results
+        type(stage_summary_t), intent(in) :: summaries(:)
         integer :: s, k
         if (.not. has_interfaces(model)) return
         write (unit, '(/,a,/,a,/,a)') repeat('-', 100), ' INTERFACE OPENINGS PER SLAB PHASE '// &
@@ -56,8 +67,8 @@ contains
             'tensile zone from the phase''s top)', repeat('-', 100)
         write (unit, '(a)') '  STAGE DATE       WATER (m) PHASE                    WIDTH (m)'// &
             '  DEPTH (m) LENGTH (m)  MIN SIGN (kPa)  MAX SIGN (kPa)'
-        do s = 1, size(results%stages)
-            associate (st => results%stages(s))
+        do s = 1, size(summaries)
+            associate (st => summaries(s))
                 do k = 1, size(st%openings)
                     associate (op => st%openings(k))
                         write (unit, '(i7,1x,a10,a10,1x,a24,3f11.4,2es16.5)') s, date_of(st), &
@@ -71,18 +82,18 @@ contains
 
     !> The largest opening width and depth of each slab phase over all stages, for the
     !> terminal summary (the paper's Table 5 quantities).
-    subroutine write_opening_summary(unit, model, results)
+    subroutine write_opening_summary(unit, model, summaries)
         integer, intent(in) :: unit
         type(model_t), intent(in) :: model
-        type(results_t), intent(in) :: results
+        type(stage_summary_t), intent(in) :: summaries(:)
         integer :: s, k, j, nphase
         integer, allocatable :: lines(:), groups(:), s_width(:), s_depth(:)
         real(dp), allocatable :: width(:), depth(:)
         if (.not. has_interfaces(model)) return
         allocate (lines(0), groups(0), s_width(0), s_depth(0), width(0), depth(0))
-        do s = 1, size(results%stages)
-            do k = 1, size(results%stages(s)%openings)
-                associate (op => results%stages(s)%openings(k))
+        do s = 1, size(summaries)
+            do k = 1, size(summaries(s)%openings)
+                associate (op => summaries(s)%openings(k))
                     j = 0
                     do nphase = 1, size(lines)
                         if (lines(nphase) == op%line .and. groups(nphase) == op%group) j = nphase
@@ -112,8 +123,8 @@ contains
         do j = 1, size(lines)
             write (unit, '(4x,a24,f9.4,i6,1x,a10,f9.3,i6,1x,a10)') &
                 phase_name(model, opening_t(line=lines(j), group=groups(j))), width(j), &
-                s_width(j), date_of(results%stages(s_width(j))), depth(j), s_depth(j), &
-                date_of(results%stages(s_depth(j)))
+                s_width(j), date_of(summaries(s_width(j))), depth(j), s_depth(j), &
+                date_of(summaries(s_depth(j)))
         end do
     end subroutine write_opening_summary
 
@@ -156,97 +167,161 @@ contains
         end if
     end subroutine write_interface_tables
 
-    !> DECK-interface.csv, DECK-openings.csv and DECK-slab.csv at `stem` (each only when
-    !> the deck has interfaces or a slab); `suffix` is appended to each name (e.g. '.part').
-    subroutine write_interface_csv(stem, suffix, model, results, error)
+    !> Open DECK-interface.csv and DECK-slab.csv at `stem` (each only when the deck has
+    !> interfaces or a slab) and write their headers; `suffix` is appended to each name
+    !> (e.g. '.part'). On an error the files opened so far are closed.
+    subroutine open_interface_csv(csv, stem, suffix, model, error)
+        type(interface_csv_t), intent(out) :: csv
         character(len=*), intent(in) :: stem, suffix
         type(model_t), intent(in) :: model
-        type(results_t), intent(in) :: results
         type(error_t), allocatable, intent(out) :: error
-        integer :: unit, stat, s, k, j
+        integer :: stat
         character(len=256) :: msg
-        character(len=:), allocatable :: path
         if (has_interfaces(model)) then
-            path = stem//'-interface.csv'//suffix
-            open (newunit=unit, file=path, status='replace', action='write', iostat=stat, &
-                  iomsg=msg)
-            if (stat /= 0) goto 90
-            write (unit, '(a)') 'stage,label,date,water_level_m,element,line,type,group,'// &
-                'point,x_m,y_m,s_m,sigma_n_kPa,tau_kPa,du_n_m,du_s_m'
-            do s = 1, size(results%stages)
-                associate (st => results%stages(s))
-                    do k = 1, size(model%interfaces)
-                        if (.not. st%interface%active(k)) cycle
-                        do j = 1, 2
-                            write (unit, '(a)', iostat=stat, iomsg=msg) stage_columns(st, s)// &
-                                ','//to_text(model%interfaces(k)%element)//','// &
-                                to_text(model%interfaces(k)%line)//','// &
-                                method_name(model%interfaces(k)%method)//','// &
-                                group_text(model, model%mesh%group( &
-                                           model%interfaces(k)%element))//','//to_text(j)// &
-                                ','//csv_real(st%interface%x(j, k))//','// &
-                                csv_real(st%interface%y(j, k))//','// &
-                                csv_real(st%interface%s(j, k))//','// &
-                                csv_real(st%interface%sigma_n(j, k))//','// &
-                                csv_real(st%interface%tau(j, k))//','// &
-                                csv_real(st%interface%du_n(j, k))//','// &
-                                csv_real(st%interface%du_s(j, k))
-                        end do
-                    end do
-                end associate
-            end do
-            close (unit)
-            if (stat /= 0) goto 90
-            path = stem//'-openings.csv'//suffix
-            open (newunit=unit, file=path, status='replace', action='write', iostat=stat, &
-                  iomsg=msg)
-            if (stat /= 0) goto 90
-            write (unit, '(a)') 'stage,label,date,water_level_m,line,group,width_m,depth_m,'// &
-                'length_m,top_x_m,top_y_m,min_sigma_n_kPa,max_sigma_n_kPa'
-            do s = 1, size(results%stages)
-                associate (st => results%stages(s))
-                    do k = 1, size(st%openings)
-                        associate (op => st%openings(k))
-                            write (unit, '(a)', iostat=stat, iomsg=msg) stage_columns(st, s)// &
-                                ','//to_text(op%line)//','//group_text(model, op%group)// &
-                                ','//csv_real(op%width)//','//csv_real(op%depth)//','// &
-                                csv_real(op%length)//','//csv_real(op%top(1))//','// &
-                                csv_real(op%top(2))//','//csv_real(op%max_compression)// &
-                                ','//csv_real(op%max_tension)
-                        end associate
-                    end do
-                end associate
-            end do
-            close (unit)
-            if (stat /= 0) goto 90
+            csv%interface_path = stem//'-interface.csv'//suffix
+            open (newunit=csv%interface_unit, file=csv%interface_path, status='replace', &
+                  action='write', iostat=stat, iomsg=msg)
+            if (stat == 0) write (csv%interface_unit, '(a)', iostat=stat, iomsg=msg) &
+                'stage,label,date,water_level_m,element,line,type,group,point,x_m,y_m,s_m,'// &
+                'sigma_n_kPa,tau_kPa,du_n_m,du_s_m'
+            if (stat /= 0) then
+                call fatal_error(error, 'cannot write '//csv%interface_path//': '//trim(msg), &
+                                 io_error)
+                call close_interface_csv(csv)
+                return
+            end if
         end if
         if (has_slab(model)) then
-            path = stem//'-slab.csv'//suffix
-            open (newunit=unit, file=path, status='replace', action='write', iostat=stat, &
-                  iomsg=msg)
-            if (stat /= 0) goto 90
-            write (unit, '(a)') 'stage,label,date,water_level_m,section,s_m,x_m,y_m,'// &
-                'thickness_m,N_kN_per_m,V_kN_per_m,M_kNm_per_m,sigma_water_side_kPa,'// &
-                'sigma_cushion_side_kPa'
-            do s = 1, size(results%stages)
-                associate (st => results%stages(s), sl => results%stages(s)%slab)
-                    do k = 1, size(sl%section_s)
-                        if (.not. sl%section_active(k)) cycle
-                        write (unit, '(a)', iostat=stat, iomsg=msg) stage_columns(st, s)// &
-                            ','//to_text(k)//','//csv_real(sl%section_s(k))//','// &
-                            csv_real(sl%section_x(k))//','//csv_real(sl%section_y(k))//','// &
-                            csv_real(sl%thickness(k))//','//csv_real(sl%axial(k))//','// &
-                            csv_real(sl%shear(k))//','//csv_real(sl%moment(k))//','// &
-                            csv_real(sl%sigma_water(k))//','//csv_real(sl%sigma_cushion(k))
-                    end do
-                end associate
-            end do
-            close (unit)
-            if (stat /= 0) goto 90
+            csv%slab_path = stem//'-slab.csv'//suffix
+            open (newunit=csv%slab_unit, file=csv%slab_path, status='replace', &
+                  action='write', iostat=stat, iomsg=msg)
+            if (stat == 0) write (csv%slab_unit, '(a)', iostat=stat, iomsg=msg) &
+                'stage,label,date,water_level_m,section,s_m,x_m,y_m,thickness_m,N_kN_per_m,'// &
+                'V_kN_per_m,M_kNm_per_m,sigma_water_side_kPa,sigma_cushion_side_kPa'
+            if (stat /= 0) then
+                call fatal_error(error, 'cannot write '//csv%slab_path//': '//trim(msg), &
+                                 io_error)
+                call close_interface_csv(csv)
+                return
+            end if
         end if
-        return
-90      call fatal_error(error, 'cannot write '//path//': '//trim(msg), io_error)
-    end subroutine write_interface_csv
+    end subroutine open_interface_csv
+
+    !> The rows of stage `s`: its active interface stations and slab sections.
+    subroutine append_interface_csv(csv, model, s, st, error)
+        type(interface_csv_t), intent(in) :: csv
+        type(model_t), intent(in) :: model
+        integer, intent(in) :: s
+        type(stage_result_t), intent(in) :: st
+        type(error_t), allocatable, intent(out) :: error
+        integer :: stat, k, j
+        character(len=256) :: msg
+        stat = 0
+        if (csv%interface_unit /= 0) then
+            do k = 1, size(model%interfaces)
+                if (.not. st%interface%active(k)) cycle
+                do j = 1, 2
+                    write (csv%interface_unit, '(a)', iostat=stat, iomsg=msg) &
+                        stage_columns(st, s)//','//to_text(model%interfaces(k)%element)// &
+                        ','//to_text(model%interfaces(k)%line)//','// &
+                        method_name(model%interfaces(k)%method)//','// &
+                        group_text(model, model%mesh%group(model%interfaces(k)%element))// &
+                        ','//to_text(j)//','//csv_real(st%interface%x(j, k))//','// &
+                        csv_real(st%interface%y(j, k))//','// &
+                        csv_real(st%interface%s(j, k))//','// &
+                        csv_real(st%interface%sigma_n(j, k))//','// &
+                        csv_real(st%interface%tau(j, k))//','// &
+                        csv_real(st%interface%du_n(j, k))//','// &
+                        csv_real(st%interface%du_s(j, k))
+                    if (stat /= 0) then
+                        call fatal_error(error, 'cannot write '//csv%interface_path//': '// &
+                                         trim(msg), io_error)
+                        return
+                    end if
+                end do
+            end do
+        end if
+        if (csv%slab_unit /= 0) then
+            associate (sl => st%slab)
+                do k = 1, size(sl%section_s)
+                    if (.not. sl%section_active(k)) cycle
+                    write (csv%slab_unit, '(a)', iostat=stat, iomsg=msg) stage_columns(st, s)// &
+                        ','//to_text(k)//','//csv_real(sl%section_s(k))//','// &
+                        csv_real(sl%section_x(k))//','//csv_real(sl%section_y(k))//','// &
+                        csv_real(sl%thickness(k))//','//csv_real(sl%axial(k))//','// &
+                        csv_real(sl%shear(k))//','//csv_real(sl%moment(k))//','// &
+                        csv_real(sl%sigma_water(k))//','//csv_real(sl%sigma_cushion(k))
+                    if (stat /= 0) then
+                        call fatal_error(error, 'cannot write '//csv%slab_path//': '// &
+                                         trim(msg), io_error)
+                        return
+                    end if
+                end do
+            end associate
+        end if
+    end subroutine append_interface_csv
+
+    !> Close the files (safe to call twice, or on files never opened).
+    subroutine close_interface_csv(csv, error)
+        type(interface_csv_t), intent(inout) :: csv
+        type(error_t), allocatable, intent(out), optional :: error
+        integer :: stat
+        character(len=256) :: msg
+        if (csv%interface_unit /= 0) then
+            close (csv%interface_unit, iostat=stat, iomsg=msg)
+            csv%interface_unit = 0
+            if (stat /= 0 .and. present(error)) then
+                call fatal_error(error, 'cannot write '//csv%interface_path//': '//trim(msg), &
+                                 io_error)
+            end if
+        end if
+        if (csv%slab_unit /= 0) then
+            close (csv%slab_unit, iostat=stat, iomsg=msg)
+            csv%slab_unit = 0
+            if (stat /= 0 .and. present(error)) then
+                if (.not. allocated(error)) call fatal_error(error, 'cannot write '// &
+                                                             csv%slab_path//': '//trim(msg), &
+                                                             io_error)
+            end if
+        end if
+    end subroutine close_interface_csv
+
+    !> DECK-openings.csv at `path` (decks with interfaces): width, depth, length, top point
+    !> and extreme normal stresses per slab phase and stage.
+    subroutine write_openings_csv(path, model, summaries, error)
+        character(len=*), intent(in) :: path
+        type(model_t), intent(in) :: model
+        type(stage_summary_t), intent(in) :: summaries(:)
+        type(error_t), allocatable, intent(out) :: error
+        integer :: unit, stat, s, k
+        character(len=256) :: msg
+        open (newunit=unit, file=path, status='replace', action='write', iostat=stat, &
+              iomsg=msg)
+        if (stat /= 0) then
+            call fatal_error(error, 'cannot write '//path//': '//trim(msg), io_error)
+            return
+        end if
+        write (unit, '(a)') 'stage,label,date,water_level_m,line,group,width_m,depth_m,'// &
+            'length_m,top_x_m,top_y_m,min_sigma_n_kPa,max_sigma_n_kPa'
+        do s = 1, size(summaries)
+            associate (st => summaries(s))
+                do k = 1, size(st%openings)
+                    associate (op => st%openings(k))
+                        write (unit, '(a)', iostat=stat, iomsg=msg) &
+                            summary_columns(st, s)//','//to_text(op%line)//','// &
+                            group_text(model, op%group)//','//csv_real(op%width)//','// &
+                            csv_real(op%depth)//','//csv_real(op%length)//','// &
+                            csv_real(op%top(1))//','//csv_real(op%top(2))//','// &
+                            csv_real(op%max_compression)//','//csv_real(op%max_tension)
+                    end associate
+                    if (stat /= 0) exit
+                end do
+            end associate
+            if (stat /= 0) exit
+        end do
+        close (unit)
+        if (stat /= 0) call fatal_error(error, 'cannot write '//path//': '//trim(msg), io_error)
+    end subroutine write_openings_csv
 
     !> stage,"label",date,water_level columns of a CSV row.
     function stage_columns(st, s) result(text)
@@ -256,6 +331,15 @@ contains
         text = to_text(s)//',"'//st%name//'",'//trim(adjustl(date_of(st)))//','
         if (st%water_level /= dry_level) text = text//trim(adjustl(level_of(st)))
     end function stage_columns
+
+    !> The same columns from a stage's summary.
+    function summary_columns(st, s) result(text)
+        type(stage_summary_t), intent(in) :: st
+        integer, intent(in) :: s
+        character(len=:), allocatable :: text
+        text = to_text(s)//',"'//st%name//'",'//trim(adjustl(date_of(st)))//','
+        if (st%water_level /= dry_level) text = text//trim(adjustl(level_of(st)))
+    end function summary_columns
 
     function group_text(model, group) result(text)
         type(model_t), intent(in) :: model

@@ -2,12 +2,15 @@
 !> numbers, then per stage tables of node displacements, element stresses at centroids with
 !> principal stresses, reactions with their sum against the applied load, and the solver's
 !> figures (docs/results.md). Writers format; they compute nothing but sums for display.
+!> The per-stage tables come from the stages' summaries, the full tables from the last
+!> stage's results (the run streams every stage's results to the HDF5 file).
 module cfrd_listing
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, io_error
     use cfrd_version, only: cfrd_version_string
     use cfrd_model, only: model_t, law_name, dry_level, law_goodman, is_joint_kind
-    use cfrd_results, only: results_t, stage_result_t
+    use cfrd_results, only: stage_result_t
+    use cfrd_stage_summary, only: stage_summary_t
     use cfrd_columns, only: csv_real, date_of, level_of
     use cfrd_interface_io, only: write_opening_history, write_interface_tables, &
                                  write_opening_summary
@@ -20,13 +23,16 @@ module cfrd_listing
 
 contains
 
-    !> Write the listing of a run to `path`.
-    subroutine write_listing(path, model, results, error)
+    !> Write the listing of a run to `path`: `summaries` of every stage, `last` the full
+    !> results of the last one, `wall_time` (s) of the analysis.
+    subroutine write_listing(path, model, summaries, last, wall_time, error)
         character(len=*), intent(in) :: path
         type(model_t), intent(in) :: model
-        type(results_t), intent(in) :: results
+        type(stage_summary_t), intent(in) :: summaries(:)
+        type(stage_result_t), intent(in) :: last
+        real(dp), intent(in) :: wall_time
         type(error_t), allocatable, intent(out) :: error
-        integer :: unit, stat, s
+        integer :: unit, stat
         character(len=256) :: msg
         open (newunit=unit, file=path, status='replace', action='write', iostat=stat, &
               iomsg=msg)
@@ -37,14 +43,13 @@ contains
         call write_banner(unit, model)
         call write_echo(unit, model)
         call write_model_summary(unit, model)
-        call write_stage_table(unit, model, results)
-        call write_gauge_tables(unit, model, results)
-        call write_opening_history(unit, model, results)
+        call write_stage_table(unit, model, summaries)
+        call write_gauge_tables(unit, model, summaries)
+        call write_opening_history(unit, model, summaries)
         ! The full tables of the last stage; every stage's state is in the HDF5 file.
-        s = size(results%stages)
-        call write_stage(unit, model, results%stages(s), s)
+        call write_stage(unit, model, last, size(summaries))
         write (unit, '(/,a,f10.3,a)', iostat=stat, iomsg=msg) ' TOTAL ANALYSIS TIME', &
-            results%wall_time, ' s'
+            wall_time, ' s'
         if (stat /= 0) then
             call fatal_error(error, 'cannot write the listing '//path//': '//trim(msg), io_error)
         end if
@@ -123,26 +128,22 @@ contains
     end subroutine write_model_summary
 
     !> One line per stage: what it did, how the solution went, the extreme displacements.
-    subroutine write_stage_table(unit, model, results)
+    subroutine write_stage_table(unit, model, summaries)
         integer, intent(in) :: unit
         type(model_t), intent(in) :: model
-        type(results_t), intent(in) :: results
-        integer :: s, node_s, node_x, node_xm
+        type(stage_summary_t), intent(in) :: summaries(:)
+        integer :: s
         write (unit, '(/,a,/,a,/,a)') rule, ' STAGES', rule
         write (unit, '(a)') '  STAGE LABEL                      DATE       WATER (m) ACTIVE'// &
             ' INC FACT ITER   MAX RESID  MAX SETTL (m)   NODE     MAX UX (m)   NODE'// &
             '     MIN UX (m)   NODE  S>=0.95'
-        do s = 1, size(results%stages)
-            associate (st => results%stages(s))
-                node_s = minloc(st%displacement_total(2, :), dim=1)
-                node_x = maxloc(st%displacement_total(1, :), dim=1)
-                node_xm = minloc(st%displacement_total(1, :), dim=1)
+        do s = 1, size(summaries)
+            associate (st => summaries(s))
                 write (unit, '(i7,1x,a26,1x,a10,a10,i7,i4,i5,i5,es12.3,3(es15.5,i7),i9)') s, &
-                    st%name, date_of(st), level_of(st), count(st%active), st%increments, &
+                    st%name, date_of(st), level_of(st), st%active_elements, st%increments, &
                     st%factorisations, st%iterations, st%max_residual, &
-                    -st%displacement_total(2, node_s), node_s, &
-                    st%displacement_total(1, node_x), node_x, &
-                    st%displacement_total(1, node_xm), node_xm, st%near_failure
+                    st%settlement, st%settlement_node, st%ux_max, st%ux_max_node, &
+                    st%ux_min, st%ux_min_node, st%near_failure
             end associate
         end do
         write (unit, '(a,i0,a)') '  (', model%mesh%nelem, ' elements in the mesh; displacements'// &
@@ -152,10 +153,10 @@ contains
     end subroutine write_stage_table
 
     !> Per gauge and stage: horizontal displacement, then settlement, since placement.
-    subroutine write_gauge_tables(unit, model, results)
+    subroutine write_gauge_tables(unit, model, summaries)
         integer, intent(in) :: unit
         type(model_t), intent(in) :: model
-        type(results_t), intent(in) :: results
+        type(stage_summary_t), intent(in) :: summaries(:)
         integer :: s, g, k
         character(len=*), parameter :: what(2) = [character(len=70) :: &
             ' GAUGES: HORIZONTAL DISPLACEMENT UX (m, + towards +x, downstream)', &
@@ -174,11 +175,10 @@ contains
             write (unit, '(/,a)') trim(what(k))
             write (unit, '(a,*(a12))') '  STAGE DATE       WATER (m)', &
                 (adjustr(trim(model%gauges(g)%name)), g = 1, size(model%gauges))
-            do s = 1, size(results%stages)
-                associate (st => results%stages(s))
+            do s = 1, size(summaries)
+                associate (st => summaries(s))
                     write (unit, '(i7,1x,a10,a10,*(f12.4))') s, date_of(st), level_of(st), &
-                        (merge(1.0_dp, -1.0_dp, k == 1)* &
-                         st%displacement_total(k, model%gauges(g)%node) + 0.0_dp, &
+                        (merge(1.0_dp, -1.0_dp, k == 1)*st%gauge_u(k, g) + 0.0_dp, &
                          g = 1, size(model%gauges))
                 end associate
             end do
@@ -186,10 +186,10 @@ contains
     end subroutine write_gauge_tables
 
     !> The gauge histories as CSV (one row per stage) at `path`.
-    subroutine write_gauge_csv(path, model, results, error)
+    subroutine write_gauge_csv(path, model, summaries, error)
         character(len=*), intent(in) :: path
         type(model_t), intent(in) :: model
-        type(results_t), intent(in) :: results
+        type(stage_summary_t), intent(in) :: summaries(:)
         type(error_t), allocatable, intent(out) :: error
         integer :: unit, stat, s, g
         character(len=256) :: msg
@@ -207,16 +207,15 @@ contains
                 trim(model%gauges(g)%name)//'_settlement_m'
         end do
         write (unit, '(a)') ''
-        do s = 1, size(results%stages)
-            associate (st => results%stages(s))
+        do s = 1, size(summaries)
+            associate (st => summaries(s))
                 level = ''
                 if (st%water_level /= dry_level) level = trim(adjustl(level_of(st)))
                 write (unit, '(i0,a)', advance='no') s, ',"'//st%name//'",'// &
                     trim(adjustl(date_of(st)))//','//level
                 do g = 1, size(model%gauges)
-                    write (unit, '(a)', advance='no') ','// &
-                        csv_real(st%displacement_total(1, model%gauges(g)%node))//','// &
-                        csv_real(-st%displacement_total(2, model%gauges(g)%node))
+                    write (unit, '(a)', advance='no') ','//csv_real(st%gauge_u(1, g))//','// &
+                        csv_real(-st%gauge_u(2, g))
                 end do
                 write (unit, '(a)', iostat=stat, iomsg=msg) ''
             end associate
@@ -280,13 +279,15 @@ contains
     !> A short result table for the terminal: extreme displacements (since placement) and
     !> principal stresses and where they occur, the reaction balance, the gauge histories
     !> (one row per calendar date: the last stage of each date) and the solver's times.
-    subroutine write_summary(unit, model, results)
+    subroutine write_summary(unit, model, summaries, stage, wall_time)
         integer, intent(in) :: unit
         type(model_t), intent(in) :: model
-        type(results_t), intent(in) :: results
+        type(stage_summary_t), intent(in) :: summaries(:)
+        type(stage_result_t), intent(in) :: stage    !! the last stage
+        real(dp), intent(in) :: wall_time            !! s, the analysis
         integer :: node, e, s, g
         real(dp) :: imbalance
-        associate (stage => results%stages(size(results%stages)), mesh => model%mesh)
+        associate (mesh => model%mesh)
             write (unit, '(a)') 'cfrd '//cfrd_version_string//': '//model%deck_file// &
                 ' -- '//model%title
             write (unit, '(a,i0,a,i0,a,i0,a)') '  ', mesh%nnode, ' nodes, ', mesh%nelem, &
@@ -320,27 +321,24 @@ contains
                     write (unit, '(a)') '  gauges: ux (m, + downstream) / settlement (m, + down)'
                     write (unit, '(a,*(a16))') '  date       water (m)', &
                         (adjustr(trim(model%gauges(g)%name)//'   '), g = 1, size(model%gauges))
-                    do s = 1, size(results%stages)
-                        if (s < size(results%stages)) then
-                            if (date_of(results%stages(s)) == &
-                                date_of(results%stages(s + 1))) cycle
+                    do s = 1, size(summaries)
+                        if (s < size(summaries)) then
+                            if (date_of(summaries(s)) == date_of(summaries(s + 1))) cycle
                         end if
-                        associate (st => results%stages(s))
+                        associate (st => summaries(s))
                             write (unit, '(2x,a10,a10,*(f8.3,"/",f7.3))') date_of(st), &
-                                level_of(st), (st%displacement_total(1, model%gauges(g)%node) &
-                                               + 0.0_dp, &
-                                               -st%displacement_total(2, model%gauges(g)%node) &
-                                               + 0.0_dp, &
+                                level_of(st), (st%gauge_u(1, g) + 0.0_dp, &
+                                               -st%gauge_u(2, g) + 0.0_dp, &
                                                g = 1, size(model%gauges))
                         end associate
                     end do
                 end if
             end if
-            call write_opening_summary(unit, model, results)
-            write (unit, '(a,f10.4,a,f8.4,a,f8.4,a,i0,a,i0,a)') '  time', results%wall_time, &
-                ' s (assembly', sum(results%stages%stats%t_assembly), ' s, factorisation', &
-                sum(results%stages%stats%t_symbolic + results%stages%stats%t_numeric), &
-                ' s, ', size(results%stages), ' stages, ', sum(results%stages%increments), &
+            call write_opening_summary(unit, model, summaries)
+            write (unit, '(a,f10.4,a,f8.4,a,f8.4,a,i0,a,i0,a)') '  time', wall_time, &
+                ' s (assembly', sum(summaries%stats%t_assembly), ' s, factorisation', &
+                sum(summaries%stats%t_symbolic + summaries%stats%t_numeric), &
+                ' s, ', size(summaries), ' stages, ', sum(summaries%increments), &
                 ' increments)'
         end associate
     contains

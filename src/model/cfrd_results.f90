@@ -110,6 +110,9 @@ module cfrd_results
         !> (4, ngauss=4, nelem) total strain since placement; a joint: relative displacements
         !> (du_n, du_s) in m
         real(dp), allocatable :: strain_gauss(:, :, :)
+        !> (nhistory=2, ngauss=4, nelem) the laws' Gauss-point history: past maxima of the
+        !> E-B stress-state function SS and of the stress level (zero for other laws)
+        real(dp), allocatable :: history_gauss(:, :, :)
         real(dp), allocatable :: stress_centroid(:, :) !! (4, nelem) kPa
         real(dp), allocatable :: principal(:, :)      !! (3, nelem): sigma1, sigma3 (kPa), angle (deg)
         type(interface_result_t) :: interface        !! along the interface elements

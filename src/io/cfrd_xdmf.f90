@@ -1,0 +1,125 @@
+!> The XDMF file beside a results file (DECK.xmf beside DECK.h5), so that ParaView (and
+!> readers such as meshio) open the results as a time series: one temporal collection, one
+!> grid per completed stage at time = the stage number, each a Quadrilateral topology over
+!> the mesh, with node attributes displacement and displacement_total (three components,
+!> z = 0) and cell attributes stress_centroid, principal, stress_level, active, material and
+!> group. The XML holds no numbers of its own: every DataItem points into the HDF5 file by
+!> a path relative to the XDMF file (docs/results.md).
+module cfrd_xdmf
+    use cfrd_error, only: error_t, fatal_error, io_error
+    use cfrd_model, only: model_t
+    use cfrd_strings, only: to_text
+    implicit none
+    private
+
+    public :: write_xdmf, xml_escape
+
+contains
+
+    !> Write the XDMF file `path` for the first `nstages` stages of the results file whose
+    !> name, relative to the XDMF file, is `h5_name`.
+    subroutine write_xdmf(path, h5_name, model, nstages, error)
+        character(len=*), intent(in) :: path, h5_name
+        type(model_t), intent(in) :: model
+        integer, intent(in) :: nstages
+        type(error_t), allocatable, intent(out) :: error
+        integer :: unit, stat, s
+        character(len=256) :: msg
+        character(len=:), allocatable :: nnode, nelem, stage
+        character(len=16) :: stage_name
+        open (newunit=unit, file=path, status='replace', action='write', iostat=stat, &
+              iomsg=msg)
+        if (stat /= 0) then
+            call fatal_error(error, 'cannot write the XDMF file '//path//': '//trim(msg), &
+                             io_error)
+            return
+        end if
+        nnode = to_text(model%mesh%nnode)
+        nelem = to_text(model%mesh%nelem)
+        write (unit, '(a)', iostat=stat, iomsg=msg) '<?xml version="1.0" ?>', &
+            '<!DOCTYPE Xdmf SYSTEM "Xdmf.dtd" []>', &
+            '<Xdmf Version="3.0">', &
+            '  <Domain>', &
+            '    <Grid Name="'//xml_escape(model%title)//'" GridType="Collection" '// &
+            'CollectionType="Temporal">'
+        do s = 1, nstages
+            if (stat /= 0) exit
+            write (stage_name, '(a,i4.4)') 'stage_', s
+            stage = '/stages/'//trim(stage_name)//'/'
+            write (unit, '(a)', iostat=stat, iomsg=msg) &
+                '      <Grid Name="'//trim(stage_name)//'" GridType="Uniform">', &
+                '        <Information Name="label" Value="'// &
+                xml_escape(model%stages(s)%label)//'"/>', &
+                '        <Time Value="'//to_text(s)//'"/>', &
+                '        <Topology TopologyType="Quadrilateral" NumberOfElements="'//nelem// &
+                '">', &
+                item(nelem//' 4', 'Int', '4', '/mesh/connectivity_zero_based'), &
+                '        </Topology>', &
+                '        <Geometry GeometryType="XY">', &
+                item(nnode//' 2', 'Float', '8', '/mesh/coordinates'), &
+                '        </Geometry>', &
+                attribute('displacement', 'Vector', 'Node', nnode//' 3', 'Float', '8', &
+                          stage//'displacement_xyz'), &
+                attribute('displacement_total', 'Vector', 'Node', nnode//' 3', 'Float', '8', &
+                          stage//'displacement_total_xyz'), &
+                attribute('stress_centroid', 'Matrix', 'Cell', nelem//' 4', 'Float', '8', &
+                          stage//'stress_centroid'), &
+                attribute('principal', 'Matrix', 'Cell', nelem//' 3', 'Float', '8', &
+                          stage//'principal'), &
+                attribute('stress_level', 'Scalar', 'Cell', nelem, 'Float', '8', &
+                          stage//'stress_level'), &
+                attribute('active', 'Scalar', 'Cell', nelem, 'Int', '4', stage//'active'), &
+                attribute('material', 'Scalar', 'Cell', nelem, 'Int', '4', '/mesh/material'), &
+                attribute('group', 'Scalar', 'Cell', nelem, 'Int', '4', '/mesh/group'), &
+                '      </Grid>'
+        end do
+        if (stat == 0) write (unit, '(a)', iostat=stat, iomsg=msg) '    </Grid>', &
+            '  </Domain>', '</Xdmf>'
+        close (unit)
+        if (stat /= 0) call fatal_error(error, 'cannot write the XDMF file '//path//': '// &
+                                        trim(msg), io_error)
+    contains
+        function item(dims, number_type, precision, dataset) result(text)
+            character(len=*), intent(in) :: dims, number_type, precision, dataset
+            character(len=:), allocatable :: text
+            text = '          <DataItem Dimensions="'//dims//'" DataType="'//number_type// &
+                   '" Precision="'//precision//'" Format="HDF">'//xml_escape(h5_name)//':'// &
+                   dataset//'</DataItem>'
+        end function item
+
+        function attribute(name, kind, center, dims, number_type, precision, dataset) &
+            result(text)
+            character(len=*), intent(in) :: name, kind, center, dims, number_type, precision, &
+                                            dataset
+            character(len=:), allocatable :: text
+            text = '        <Attribute Name="'//name//'" AttributeType="'//kind// &
+                   '" Center="'//center//'">'//new_line('a')// &
+                   item(dims, number_type, precision, dataset)//new_line('a')// &
+                   '        </Attribute>'
+        end function attribute
+    end subroutine write_xdmf
+
+    !> Text with XML's five special characters escaped, for attribute values and content.
+    pure function xml_escape(text) result(escaped)
+        character(len=*), intent(in) :: text
+        character(len=:), allocatable :: escaped
+        integer :: i
+        escaped = ''
+        do i = 1, len(text)
+            select case (text(i:i))
+            case ('&')
+                escaped = escaped//'&amp;'
+            case ('<')
+                escaped = escaped//'&lt;'
+            case ('>')
+                escaped = escaped//'&gt;'
+            case ('"')
+                escaped = escaped//'&quot;'
+            case ("'")
+                escaped = escaped//'&apos;'
+            case default
+                escaped = escaped//text(i:i)
+            end select
+        end do
+    end function xml_escape
+end module cfrd_xdmf
