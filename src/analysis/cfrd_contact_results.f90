@@ -17,13 +17,15 @@ module cfrd_contact_results
 contains
 
     !> The contact results of the current state, and the openings per pair and slab phase.
-    subroutine record_contact(model, contact, result, openings)
+    subroutine record_contact(model, contact, active, result, openings)
         type(model_t), intent(in) :: model
         type(contact_t), intent(in) :: contact
+        logical, intent(in) :: active(:)          !! (nelem) elements placed
         type(contact_result_t), intent(out) :: result
         type(opening_t), allocatable, intent(inout) :: openings(:)
         result%node = contact%node
         result%pair = contact%pair
+        result%group = contact%group
         result%status = contact%status
         result%placed = contact%placed
         result%x = model%mesh%x(1, contact%node)
@@ -33,16 +35,17 @@ contains
         result%slip = contact%slip
         result%sigma_n = -contact%p
         result%tau = contact%q
-        call contact_openings(model, contact, result, openings)
+        call contact_openings(model, contact, active, result, openings)
     end subroutine record_contact
 
-    !> The opening of each slab phase of each pair: the slave segments of one element group
-    !> (the group that places the slab phase). Width = the largest gap; depth = the length
+    !> The opening of each slab phase of each pair: the placed slave segments of one element
+    !> group (the group that places the slab phase; nothing before it is placed). Width = the largest gap; depth = the length
     !> along the surface from the phase's top end (its highest node) down to the first node
     !> that is not separated (the gap is zero there and positive all the way above it).
-    subroutine contact_openings(model, contact, result, openings)
+    subroutine contact_openings(model, contact, active, result, openings)
         type(model_t), intent(in) :: model
         type(contact_t), intent(in) :: contact
+        logical, intent(in) :: active(:)
         type(contact_result_t), intent(in) :: result
         type(opening_t), allocatable, intent(inout) :: openings(:)
         logical, allocatable :: member(:)
@@ -57,6 +60,7 @@ contains
                 do k = 1, size(contact%seg, 2)
                     if (contact%pair(contact%seg(1, k)) /= ip) cycle
                     if (model%mesh%group(contact%seg_element(k)) /= g) cycle
+                    if (.not. active(contact%seg_element(k))) cycle
                     member(contact%seg(:, k)) = .true.
                 end do
                 if (.not. any(member)) cycle

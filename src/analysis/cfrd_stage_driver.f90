@@ -958,7 +958,8 @@ contains
                     call contact_forces(state%contact, f_contact)
                     f_int = f_int - f_contact
                 end block
-                call record_contact(model, state%contact, result%contact, result%openings)
+                call record_contact(model, state%contact, state%active, result%contact, &
+                                    result%openings)
             end if
             used = active_nodes(model, state%active)
             result%reaction = merge(f_int - state%f_ext, 0.0_dp, &

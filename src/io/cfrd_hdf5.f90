@@ -22,7 +22,7 @@ module cfrd_hdf5
     use cfrd_version, only: cfrd_version_string
     use cfrd_model, only: model_t, stage_kind_name, dry_level, law_name
     use cfrd_results, only: results_t, stage_result_t
-    use cfrd_interface_io, only: has_interfaces, has_slab
+    use cfrd_interface_io, only: has_interfaces, has_slab, has_contact
     implicit none
     private
 
@@ -40,6 +40,7 @@ module cfrd_hdf5
         integer :: stages_written = 0
         logical :: interfaces = .false.      !! the deck has interface elements
         logical :: slab = .false.            !! the deck has SLAB groups
+        logical :: contact = .false.         !! the deck has CONTACT pairs
         character(len=:), allocatable :: path
     end type results_file_t
 
@@ -87,6 +88,7 @@ contains
         file%path = path
         file%interfaces = has_interfaces(model)
         file%slab = has_slab(model)
+        file%contact = has_contact(model)
         call h5open_f(hdferr)
         if (hdferr < 0) then
             call fatal_error(error, 'cannot initialise the HDF5 library', io_error)
@@ -330,6 +332,35 @@ contains
                                    'largest relative normal displacement of the phase', st)
                 call dataset_real1(id, 'opening_depth', stage%openings%depth, 'm', &
                                    'down-slope length of the tensile zone from the top', st)
+            end if
+            call close_group(id, st)
+        end if
+        if (file%contact) then
+            call open_group(stage_id, 'contact', id, st)
+            associate (r => stage%contact)
+                call dataset_int1(id, 'node', r%node, st)
+                call dataset_int1(id, 'pair', r%pair, st)
+                call dataset_int1(id, 'group', r%group, st)
+                call dataset_int1(id, 'placed', merge(1, 0, r%placed), st)
+                call dataset_int1(id, 'status', r%status, st)
+                call dataset_real1(id, 'x', r%x, 'm', 'slave node, as meshed', st)
+                call dataset_real1(id, 'y', r%y, 'm', 'slave node, as meshed', st)
+                call dataset_real1(id, 's', r%s, 'm', 'along the slave surface', st)
+                call dataset_real1(id, 'gap', r%gap, 'm', 'normal gap, open +', st)
+                call dataset_real1(id, 'slip', r%slip, 'm', 'accumulated slip along t', st)
+                call dataset_real1(id, 'sigma_n', r%sigma_n, 'kPa', &
+                                   'normal contact traction, tension +', st)
+                call dataset_real1(id, 'tau', r%tau, 'kPa', 'shear traction on the slave along t', &
+                                   st)
+            end associate
+            n = size(stage%openings)
+            if (n > 0) then
+                call dataset_int1(id, 'opening_pair', stage%openings%line, st)
+                call dataset_int1(id, 'opening_group', stage%openings%group, st)
+                call dataset_real1(id, 'opening_width', stage%openings%width, 'm', &
+                                   'largest gap of the slab phase', st)
+                call dataset_real1(id, 'opening_depth', stage%openings%depth, 'm', &
+                                   'length from the phase top down to where the gap closes', st)
             end if
             call close_group(id, st)
         end if

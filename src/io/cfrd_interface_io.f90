@@ -16,15 +16,19 @@ module cfrd_interface_io
     private
 
     public :: write_opening_history, write_interface_tables, write_openings_csv
-    public :: write_opening_summary, has_interfaces, has_slab, phase_name
+    public :: write_opening_summary, has_interfaces, has_slab, has_contact, has_openings
+    public :: phase_name
     public :: interface_csv_t, open_interface_csv, append_interface_csv, close_interface_csv
 
     !> DECK-interface.csv and DECK-slab.csv, open while the analysis runs (unit 0: the deck
     !> has no interfaces, or no slab).
     type :: interface_csv_t
-        integer :: interface_unit = 0, slab_unit = 0
-        character(len=:), allocatable :: interface_path, slab_path
+        integer :: interface_unit = 0, slab_unit = 0, contact_unit = 0
+        character(len=:), allocatable :: interface_path, slab_path, contact_path
     end type interface_csv_t
+
+    !> Contact node status names, by status 0 (open), 1 (stick), 2 (slip).
+    character(len=5), parameter :: status_names(0:2) = ['open ', 'stick', 'slip ']
 
 contains
 
@@ -33,6 +37,19 @@ contains
         has_interfaces = .false.
         if (allocated(model%interfaces)) has_interfaces = size(model%interfaces) > 0
     end function has_interfaces
+
+    !> The deck has CONTACT pairs (docs/cards.md, CONTACT).
+    pure logical function has_contact(model)
+        type(model_t), intent(in) :: model
+        has_contact = .false.
+        if (allocated(model%contact_pairs)) has_contact = size(model%contact_pairs) > 0
+    end function has_contact
+
+    !> Openings per slab phase are reported: from interface elements or from contact.
+    pure logical function has_openings(model)
+        type(model_t), intent(in) :: model
+        has_openings = has_interfaces(model) .or. has_contact(model)
+    end function has_openings
 
     pure logical function has_slab(model)
         type(model_t), intent(in) :: model
@@ -48,6 +65,7 @@ contains
         character(len=12) :: number
         write (number, '(i0)') op%line
         text = 'line '//trim(number)//', '
+        if (has_contact(model)) text = 'pair '//trim(number)//', '
         if (op%group > 0) then
             text = text//trim(model%mesh%group_name(op%group))
         else
@@ -61,10 +79,16 @@ contains
         type(model_t), intent(in) :: model
         type(stage_summary_t), intent(in) :: summaries(:)
         integer :: s, k
-        if (.not. has_interfaces(model)) return
-        write (unit, '(/,a,/,a,/,a)') repeat('-', 100), ' INTERFACE OPENINGS PER SLAB PHASE '// &
-            '(width: largest relative normal displacement; depth: down-slope length of the '// &
-            'tensile zone from the phase''s top)', repeat('-', 100)
+        if (.not. has_openings(model)) return
+        if (has_contact(model)) then
+            write (unit, '(/,a,/,a,/,a)') repeat('-', 100), ' CONTACT OPENINGS PER SLAB '// &
+                'PHASE (width: largest gap; depth: length from the phase''s top down to '// &
+                'where the gap closes)', repeat('-', 100)
+        else
+            write (unit, '(/,a,/,a,/,a)') repeat('-', 100), ' INTERFACE OPENINGS PER SLAB '// &
+                'PHASE (width: largest relative normal displacement; depth: down-slope '// &
+                'length of the tensile zone from the phase''s top)', repeat('-', 100)
+        end if
         write (unit, '(a)') '  STAGE DATE       WATER (m) PHASE                    WIDTH (m)'// &
             '  DEPTH (m) LENGTH (m)  MIN SIGN (kPa)  MAX SIGN (kPa)'
         do s = 1, size(summaries)
@@ -89,7 +113,7 @@ contains
         integer :: s, k, j, nphase
         integer, allocatable :: lines(:), groups(:), s_width(:), s_depth(:)
         real(dp), allocatable :: width(:), depth(:)
-        if (.not. has_interfaces(model)) return
+        if (.not. has_openings(model)) return
         allocate (lines(0), groups(0), s_width(0), s_depth(0), width(0), depth(0))
         do s = 1, size(summaries)
             do k = 1, size(summaries(s)%openings)
@@ -118,8 +142,9 @@ contains
                 end associate
             end do
         end do
-        write (unit, '(a)') '  interface openings, largest over the stages (width m at '// &
-            'stage / date; depth m at stage / date)'
+        write (unit, '(a)') '  '//trim(merge('contact  ', 'interface', has_contact(model)))// &
+            ' openings, largest over the stages (width m at stage / date; depth m at '// &
+            'stage / date)'
         do j = 1, size(lines)
             write (unit, '(4x,a24,f9.4,i6,1x,a10,f9.3,i6,1x,a10)') &
                 phase_name(model, opening_t(line=lines(j), group=groups(j))), width(j), &
@@ -151,6 +176,21 @@ contains
                         stage%interface%du_s(j, k)
                 end do
             end do
+        end if
+        if (has_contact(model)) then
+            write (unit, '(/,a,/,a)') ' CONTACT (slave nodes; S along the slave surface; '// &
+                'GAP + open; SLIP along t, accumulated; SIGN: normal traction, tension +; '// &
+                'TAU: shear on the slave along t)', &
+                '   NODE PAIR STATUS         X (m)          Y (m)          S (m)'// &
+                '       GAP (m)      SLIP (m)    SIGN (kPa)     TAU (kPa)'
+            associate (c => stage%contact)
+                do k = 1, size(c%node)
+                    if (.not. c%placed(k)) cycle
+                    write (unit, '(i7,i5,1x,a6,3f15.4,4es14.5)') c%node(k), c%pair(k), &
+                        status_names(c%status(k)), c%x(k), c%y(k), c%s(k), c%gap(k), &
+                        c%slip(k), c%sigma_n(k), c%tau(k)
+                end do
+            end associate
         end if
         if (has_slab(model)) then
             write (unit, '(/,a,/,a,/,a)') ' SLAB SECTIONS (per m of dam; along the slab axis '// &
@@ -186,6 +226,20 @@ contains
                 'sigma_n_kPa,tau_kPa,du_n_m,du_s_m'
             if (stat /= 0) then
                 call fatal_error(error, 'cannot write '//csv%interface_path//': '//trim(msg), &
+                                 io_error)
+                call close_interface_csv(csv)
+                return
+            end if
+        end if
+        if (has_contact(model)) then
+            csv%contact_path = stem//'-contact.csv'//suffix
+            open (newunit=csv%contact_unit, file=csv%contact_path, status='replace', &
+                  action='write', iostat=stat, iomsg=msg)
+            if (stat == 0) write (csv%contact_unit, '(a)', iostat=stat, iomsg=msg) &
+                'stage,label,date,water_level_m,pair,node,group,x_m,y_m,s_m,status,gap_m,'// &
+                'slip_m,sigma_n_kPa,tau_kPa'
+            if (stat /= 0) then
+                call fatal_error(error, 'cannot write '//csv%contact_path//': '//trim(msg), &
                                  io_error)
                 call close_interface_csv(csv)
                 return
@@ -241,6 +295,25 @@ contains
                 end do
             end do
         end if
+        if (csv%contact_unit /= 0) then
+            associate (c => st%contact)
+                do k = 1, size(c%node)
+                    if (.not. c%placed(k)) cycle
+                    write (csv%contact_unit, '(a)', iostat=stat, iomsg=msg) &
+                        stage_columns(st, s)//','//to_text(c%pair(k))//','// &
+                        to_text(c%node(k))//','//group_text(model, c%group(k))//','// &
+                        csv_real(c%x(k))//','//csv_real(c%y(k))//','//csv_real(c%s(k))// &
+                        ','//trim(status_names(c%status(k)))//','//csv_real(c%gap(k))//','// &
+                        csv_real(c%slip(k))//','//csv_real(c%sigma_n(k))//','// &
+                        csv_real(c%tau(k))
+                    if (stat /= 0) then
+                        call fatal_error(error, 'cannot write '//csv%contact_path//': '// &
+                                         trim(msg), io_error)
+                        return
+                    end if
+                end do
+            end associate
+        end if
         if (csv%slab_unit /= 0) then
             associate (sl => st%slab)
                 do k = 1, size(sl%section_s)
@@ -275,6 +348,15 @@ contains
                                  io_error)
             end if
         end if
+        if (csv%contact_unit /= 0) then
+            close (csv%contact_unit, iostat=stat, iomsg=msg)
+            csv%contact_unit = 0
+            if (stat /= 0 .and. present(error)) then
+                if (.not. allocated(error)) call fatal_error(error, 'cannot write '// &
+                                                             csv%contact_path//': '// &
+                                                             trim(msg), io_error)
+            end if
+        end if
         if (csv%slab_unit /= 0) then
             close (csv%slab_unit, iostat=stat, iomsg=msg)
             csv%slab_unit = 0
@@ -286,8 +368,9 @@ contains
         end if
     end subroutine close_interface_csv
 
-    !> DECK-openings.csv at `path` (decks with interfaces): width, depth, length, top point
-    !> and extreme normal stresses per slab phase and stage.
+    !> DECK-openings.csv at `path` (decks with interfaces or contact): width, depth, length,
+    !> top point and extreme normal stresses per slab phase and stage (line: the interface
+    !> line, or the contact pair).
     subroutine write_openings_csv(path, model, summaries, error)
         character(len=*), intent(in) :: path
         type(model_t), intent(in) :: model

@@ -19,7 +19,7 @@ module cfrd_run_output
     use cfrd_listing, only: write_listing, write_gauge_csv
     use cfrd_interface_io, only: interface_csv_t, open_interface_csv, append_interface_csv, &
                                  close_interface_csv, write_openings_csv, has_interfaces, &
-                                 has_slab
+                                 has_slab, has_contact, has_openings
     use cfrd_files, only: move_file, delete_file, base_name
     implicit none
     private
@@ -30,9 +30,9 @@ module cfrd_run_output
     !> Suffix of the files being written; of the results file a failed run leaves.
     character(len=*), parameter :: part = '.part', incomplete = '.incomplete'
     !> Every file a run may write after the stem (DECK.out, DECK.h5, ...).
-    character(len=*), parameter :: endings(7) = [character(len=14) :: '.out', '.h5', '.xmf', &
+    character(len=*), parameter :: endings(8) = [character(len=14) :: '.out', '.h5', '.xmf', &
                                                  '-gauges.csv', '-interface.csv', &
-                                                 '-openings.csv', '-slab.csv']
+                                                 '-openings.csv', '-slab.csv', '-contact.csv']
 
     !> The files of a run being written.
     type :: run_output_t
@@ -90,7 +90,7 @@ contains
         integer :: k
         associate (stem => out%stem, summaries => out%summaries(1:out%completed))
             written = [.true., .true., .true., .false., has_interfaces(model), &
-                       has_interfaces(model), has_slab(model)]
+                       has_openings(model), has_slab(model), has_contact(model)]
             if (allocated(model%gauges)) written(4) = size(model%gauges) > 0
             call close_interface_csv(out%csv, error)
             if (.not. allocated(error)) &

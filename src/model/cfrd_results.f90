@@ -39,6 +39,7 @@ module cfrd_results
     !> tractions sigma_n (kPa, tension + so <= 0) and tau (kPa, on the slave along t).
     type :: contact_result_t
         integer, allocatable :: node(:), pair(:), status(:)     !! (ncontact)
+        integer, allocatable :: group(:)                        !! (ncontact) of its slave face
         logical, allocatable :: placed(:)                       !! (ncontact) its face active
         real(dp), allocatable :: x(:), y(:)                     !! (ncontact) m, as meshed
         real(dp), allocatable :: s(:)                           !! (ncontact) m along the surface
