@@ -105,6 +105,9 @@ tool_checks "eb plane strain" python3 tools/eb_reference.py --check-cfrd "$cfrd"
 
 tool_checks "tianshengqiao" python3 tools/check_tianshengqiao.py --run "$cfrd" \
     --workdir "$work/tianshengqiao"
+# The zig-zag measure of tools/interface_zigzag.py (docs/tianshengqiao.md section 7.4) on
+# closed forms.
+tool_checks "interface zigzag" python3 tools/interface_zigzag.py --selftest
 
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]
