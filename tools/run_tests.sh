@@ -109,6 +109,9 @@ tool_checks "tianshengqiao" python3 tools/check_tianshengqiao.py --run "$cfrd" \
 tool_checks "xdmf" python3 tools/check_xdmf.py --run "$cfrd" --workdir "$work/xdmf"
 # The figures plot what the HDF5 file holds (tools/figures.py --data against h5py reads).
 tool_checks "figures" python3 tools/check_figures.py --run "$cfrd" --workdir "$work/figures"
+# The zig-zag measure of tools/interface_zigzag.py (docs/tianshengqiao.md section 7.4) on
+# closed forms.
+tool_checks "interface zigzag" python3 tools/interface_zigzag.py --selftest
 
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

@@ -1,0 +1,115 @@
+#!/usr/bin/env python3
+"""Zig-zag of the normal stress along the slab-cushion interface, from a cfrd interface CSV.
+
+  python3 tools/interface_zigzag.py DECK-interface.csv [--stages 34,42,45]
+  python3 tools/interface_zigzag.py --selftest
+
+For each stage asked (default: the last) and each slab phase (interface group), the stations
+in order along the line (both Gauss points of every joint, or the Newton-Cotes nodes once
+each) and the zig-zag amplitude of sigma_n: the measure of the test
+analysis_interface/stiff_joint_notch_oscillation (docs/theory.md section 12). From the second
+divided differences D_i of successive stations (a zig-zag of amplitude a on spacing h has
+|D| = 4a/h^2, alternating in sign): where two neighbouring D differ in sign, the smaller
+|D| h^2/4 counts; the largest is printed in kPa and relative to the phase's mean |sigma_n|,
+with the elevation of the station where it is. A smooth profile gives 0 whatever its slope or
+station spacing. Each phase is measured on its own: the traction steps where one phase
+meets the next (each counts its displacements from its own placement).
+"""
+import argparse
+import csv
+import sys
+
+import numpy as np
+
+
+def zigzag(s, y):
+    """Largest zig-zag amplitude of y at increasing stations s, and its index (or None)."""
+    s = np.asarray(s, dtype=float)
+    y = np.asarray(y, dtype=float)
+    n = len(y)
+    d = np.zeros(n)
+    a = np.zeros(n)
+    for i in range(1, n - 1):
+        d[i] = 2.0 * ((y[i + 1] - y[i]) / (s[i + 1] - s[i])
+                      - (y[i] - y[i - 1]) / (s[i] - s[i - 1])) / (s[i + 1] - s[i - 1])
+        a[i] = abs(d[i]) * (0.5 * (s[i + 1] - s[i - 1])) ** 2 / 4.0
+    amp, where = 0.0, None
+    for i in range(1, n - 2):
+        if d[i] * d[i + 1] < 0.0 and min(a[i], a[i + 1]) > amp:
+            amp, where = min(a[i], a[i + 1]), i
+    return amp, where
+
+
+def phases(rows):
+    """{group: (s, sigma_n, elevation)} in order along the line, shared stations once."""
+    groups = {}
+    for r in rows:
+        groups.setdefault(r["group"].strip(), []).append(
+            (float(r["s_m"]), float(r["sigma_n_kPa"]), float(r["y_m"])))
+    out = {}
+    for g, v in groups.items():
+        v.sort(key=lambda t: t[0])
+        s = np.array([t[0] for t in v])
+        keep = np.concatenate([[True], np.diff(s) > 1e-9 * max(1.0, s[-1])])
+        out[g] = tuple(np.array([t[k] for t in v])[keep] for k in range(3))
+    return out
+
+
+def selftest():
+    """The measure on closed forms: PASS/FAIL lines."""
+    ok = True
+    h = 1.5
+    s = h * np.arange(12)
+    saw = 3.0 + 0.7 * s + 2.5 * (-1.0) ** np.arange(12)
+    g = 1.0 / np.sqrt(3.0)
+    gauss = np.ravel([[k + 0.5 * (1 - g), k + 0.5 * (1 + g)] for k in range(10)]) * h
+    checks = [
+        ("sawtooth of amplitude 2.5 on a line, uniform spacing", zigzag(s, saw)[0], 2.5),
+        ("straight line at the Gauss stations", zigzag(gauss, 4.0 - 3.0 * gauss)[0], 0.0),
+        ("parabola at the Gauss stations", zigzag(gauss, 1.0 + gauss ** 2)[0], 0.0),
+        ("decaying 1/sqrt(r) at the nodes", zigzag(s + 1.0, 1.0 / np.sqrt(s + 1.0))[0], 0.0),
+    ]
+    for name, got, want in checks:
+        good = abs(got - want) <= 1e-12 * max(1.0, abs(want))
+        ok = ok and good
+        print(f"{'PASS' if good else 'FAIL'} interface-zigzag/{name}: {got:.3e} "
+              f"(closed form {want}, tol 1e-12)")
+    return 0 if ok else 1
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("csv", nargs="?", help="DECK-interface.csv written by cfrd")
+    parser.add_argument("--stages", help="comma-separated stage numbers (default: the last)")
+    parser.add_argument("--selftest", action="store_true")
+    args = parser.parse_args(argv)
+    if args.selftest:
+        return selftest()
+    if not args.csv:
+        parser.error("an interface CSV is needed (or --selftest)")
+    with open(args.csv, newline="") as f:
+        rows = list(csv.DictReader(f))
+    by_stage = {}
+    for r in rows:
+        by_stage.setdefault(int(r["stage"]), []).append(r)
+    stages = ([int(k) for k in args.stages.split(",")] if args.stages
+              else [max(by_stage)])
+    print(f"{'stage':>5} {'date':>8} {'phase':>6} {'stations':>8} {'mean|sn| kPa':>12} "
+          f"{'zig-zag kPa':>11} {'% of mean':>9} {'at El. m':>8}")
+    for k in stages:
+        if k not in by_stage:
+            print(f"stage {k}: no interface rows (not a stage with active interface elements)",
+                  file=sys.stderr)
+            return 1
+        date = by_stage[k][0]["date"].strip()
+        for g, (s, y, el) in sorted(phases(by_stage[k]).items()):
+            amp, i = zigzag(s, y)
+            mean = float(np.mean(np.abs(y)))
+            where = f"{el[i]:8.1f}" if i is not None else f"{'-':>8}"
+            print(f"{k:5d} {date:>8} {g:>6} {len(s):8d} {mean:12.0f} {amp:11.1f} "
+                  f"{100 * amp / mean:9.1f} {where}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
