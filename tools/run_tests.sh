@@ -3,7 +3,8 @@
 #   1. the Fortran suites (test/main.f90),
 #   2. the command line: bad decks (exit 2 and the message), exit statuses, results left
 #      untouched by a failed run,
-#   3. the independent peer: the same embankment through CalculiX.
+#   3. the independent peer: the same embankment through CalculiX, and the other tool checks,
+#   4. the comparison tool.
 # Every check prints PASS or FAIL; the last line is exactly `N passed, N failed`.
 set -u
 fortran_log=$1            # output of `fpm test` on the debug build (from the Makefile)
@@ -105,6 +106,9 @@ tool_checks "eb plane strain" python3 tools/eb_reference.py --check-cfrd "$cfrd"
 
 tool_checks "tianshengqiao" python3 tools/check_tianshengqiao.py --run "$cfrd" \
     --workdir "$work/tianshengqiao"
+
+# 4. Results people use: the comparison tool.
+tool_checks "compare" python3 tools/check_compare.py --cfrd "$cfrd" --workdir "$work/compare"
 
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]
