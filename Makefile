@@ -18,7 +18,11 @@ DEBUG_FLAGS = -O0 -g -Wall -fcheck=all -ffpe-trap=invalid,zero,overflow -fbacktr
 # fpm takes the subcommand first: $(call fpm,SUBCOMMAND,PROFILE,FLAGS)
 fpm = FPM_LDFLAGS="$(HDF5_LDIRS)" fpm $(1) --profile $(2) --flag "$(3)"
 
-.PHONY: run test bench deps build build-debug clean
+DECKS ?= $(wildcard inputs/*.dat)
+OUT ?= batch-results
+STUDY ?= inputs/studies/tianshengqiao-joint.dat
+
+.PHONY: run test bench batch study deps build build-debug clean
 
 ## deps: install whatever is missing; a second call only checks (well under a second).
 deps:
@@ -47,6 +51,16 @@ run: build
 test: build-debug
 	@$(call fpm,test,debug,$(DEBUG_FLAGS)) >build/fortran-tests.log 2>&1; \
 	  tools/run_tests.sh build/fortran-tests.log
+
+## batch: run many decks at once, one process per deck on every core, then a summary table
+## (make batch DECKS="inputs/a.dat inputs/b.dat" [OUT=DIR] [JOBS=N]; docs/results.md)
+batch: build
+	@python3 tools/batch.py --cfrd bin/cfrd --out "$(OUT)" $(if $(JOBS),--jobs $(JOBS)) $(DECKS)
+
+## study: expand a template deck over its parameter table, run the cases, table and figure
+## (make study [STUDY=TEMPLATE.dat] [JOBS=N]; results in study-TEMPLATE/)
+study: build
+	@python3 tools/study.py --cfrd bin/cfrd $(if $(JOBS),--jobs $(JOBS)) $(STUDY)
 
 ## bench: timing figures (see docs/performance.md)
 bench: build
