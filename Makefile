@@ -22,7 +22,7 @@ DECKS ?= $(wildcard inputs/*.dat)
 OUT ?= batch-results
 STUDY ?= inputs/studies/tianshengqiao-joint.dat
 
-.PHONY: run test bench batch study deps build build-debug clean
+.PHONY: run test bench batch study references deps build build-debug clean
 
 ## deps: install whatever is missing; a second call only checks (well under a second).
 deps:
@@ -61,6 +61,11 @@ batch: build
 ## (make study [STUDY=TEMPLATE.dat] [JOBS=N]; results in study-TEMPLATE/)
 study: build
 	@python3 tools/study.py --cfrd bin/cfrd $(if $(JOBS),--jobs $(JOBS)) $(STUDY)
+
+## references: rerun inputs/*.dat and rewrite the references in outputs/reference/ whose
+## results changed beyond the regression tolerances (explain why in the commit)
+references: build
+	@python3 tools/regression.py --refresh --cfrd bin/cfrd
 
 ## bench: timing figures (see docs/performance.md)
 bench: build

@@ -13,6 +13,8 @@
                  typed as a result table, agrees with a run of inputs/column.dat to
                  rtol 1e-9 (bilinear quads are exact at its nodes); the same table with one
                  value mistyped differs at that node;
+  regression     tools/regression.py fails on a reference with one value changed by 1e-6
+                 of itself, naming that quantity, node, stage and component;
   bad input      a table with a word for a number is rejected with its file, line and
                  column (exit 2).
 
@@ -23,6 +25,7 @@ Prints one PASS/FAIL line per check; exit status 1 if any failed.
 
 import argparse
 import csv
+import gzip
 import os
 import re
 import shutil
@@ -164,6 +167,28 @@ def main():
     open(typo, "w").write("\n".join(lines) + "\n")
     check_perturbed("mistyped-table", typo, column, ("displacement", "uy", "node 15", 1),
                     "--rtol", "1e-9", "--atol", "1e-15")
+
+    # The regression suite fails on a reference with one value changed, and says where.
+    refdir = os.path.join(work, "references")
+    os.makedirs(refdir)
+    with gzip.open("outputs/reference/example.csv.gz", "rt") as fh:
+        lines = fh.read().splitlines()
+    k = next(i for i, l in enumerate(lines)
+             if l.startswith("displacement_total,1,node 7,uy,"))
+    value = float(lines[k].rsplit(",", 1)[1])
+    lines[k] = f"displacement_total,1,node 7,uy,{value * (1 + 1e-6):.12g}"
+    with gzip.open(os.path.join(refdir, "example.csv.gz"), "wt") as fh:
+        fh.write("\n".join(lines) + "\n")
+    proc = subprocess.run([sys.executable, os.path.join(TOOLS, "regression.py"), "--cfrd",
+                           args.cfrd, "--workdir", os.path.join(work, "regression"),
+                           "--references", refdir, "inputs/example.dat"],
+                          capture_output=True, text=True)
+    out = proc.stdout.strip()
+    expected = "FAIL regression/example: 1 of 79 values beyond the elastic tolerances; " \
+        "worst displacement_total uy at node 7, stage 1"
+    verdict(proc.returncode == 1 and out.startswith(expected), "regression-detects-change",
+            f"example's reference with uy of node 7 changed by 1e-6 of itself: exit "
+            f"{proc.returncode} (expected 1): {out[:200]}")
 
     # bad input
     bad = os.path.join(work, "bad.csv")
