@@ -10,6 +10,7 @@ program cfrd_main
     use cfrd_stage_driver, only: run_analysis
     use cfrd_results, only: stage_result_t
     use cfrd_listing, only: write_listing, write_summary, write_gauge_csv
+    use cfrd_legacy_listing, only: write_legacy_listing
     use cfrd_hdf5, only: write_results_h5
     use cfrd_interface_io, only: write_interface_csv, has_interfaces, has_slab
     use cfrd_files, only: move_file, delete_file, base_name, strip_extension
@@ -19,6 +20,7 @@ program cfrd_main
     type :: options_t
         logical :: check_only = .false.
         logical :: quiet = .false.
+        logical :: legacy_listing = .false.   !! also DECK.lst, the legacy-style tables
         character(len=:), allocatable :: out_dir
     end type options_t
 
@@ -79,7 +81,7 @@ contains
             else
                 stem = strip_extension(path)
             end if
-            call write_results(stem, model, results, error)
+            call write_results(stem, model, results, options%legacy_listing, error)
         end if
         if (allocated(error)) then
             write (error_unit, '(a)') 'cfrd: '//error%message
@@ -94,6 +96,9 @@ contains
             else
                 write (output_unit, '(a)') 'Results: '//stem//'.out, '//stem//'.h5'
             end if
+            if (options%legacy_listing) write (output_unit, '(a)') &
+                'Legacy-style listing: '//stem//'.lst'
+
         end if
     end subroutine run_deck
 
@@ -111,35 +116,40 @@ contains
 
     !> Write the result files under temporary names, then rename them into place, so that a
     !> failed run leaves the results of an earlier run untouched.
-    subroutine write_results(stem, model, results, error)
+    subroutine write_results(stem, model, results, legacy_listing, error)
         character(len=*), intent(in) :: stem
         type(model_t), intent(in) :: model
         type(results_t), intent(in) :: results
+        logical, intent(in) :: legacy_listing
         type(error_t), allocatable, intent(out) :: error
         character(len=*), parameter :: part = '.part'
-        character(len=*), parameter :: csv(4) = [character(len=14) :: '-gauges.csv', &
-                                                 '-interface.csv', '-openings.csv', '-slab.csv']
-        logical :: written(4)
+        ! The files beside the listing and the HDF5 file, each written when its flag is set.
+        character(len=*), parameter :: others(5) = [character(len=14) :: '-gauges.csv', &
+                                                 '-interface.csv', '-openings.csv', '-slab.csv', &
+                                                 '.lst']
+        logical :: written(5)
         integer :: k
         written = [size(model%gauges) > 0, has_interfaces(model), has_interfaces(model), &
-                   has_slab(model)]
+                   has_slab(model), legacy_listing]
         call write_listing(stem//'.out'//part, model, results, error)
         if (.not. allocated(error)) call write_results_h5(stem//'.h5'//part, model, results, &
                                                           error)
         if (.not. allocated(error) .and. written(1)) &
             call write_gauge_csv(stem//'-gauges.csv'//part, model, results, error)
         if (.not. allocated(error)) call write_interface_csv(stem, part, model, results, error)
+        if (.not. allocated(error) .and. legacy_listing) &
+            call write_legacy_listing(stem//'.lst'//part, model, results, error)
         if (.not. allocated(error)) call move_file(stem//'.out'//part, stem//'.out', error)
         if (.not. allocated(error)) call move_file(stem//'.h5'//part, stem//'.h5', error)
-        do k = 1, size(csv)
+        do k = 1, size(others)
             if (.not. allocated(error) .and. written(k)) &
-                call move_file(stem//trim(csv(k))//part, stem//trim(csv(k)), error)
+                call move_file(stem//trim(others(k))//part, stem//trim(others(k)), error)
         end do
         if (allocated(error)) then
             call delete_file(stem//'.out'//part)
             call delete_file(stem//'.h5'//part)
-            do k = 1, size(csv)
-                call delete_file(stem//trim(csv(k))//part)
+            do k = 1, size(others)
+                call delete_file(stem//trim(others(k))//part)
             end do
         end if
     end subroutine write_results
@@ -168,6 +178,8 @@ contains
                 options%check_only = .true.
             case ('-q', '--quiet')
                 options%quiet = .true.
+            case ('--legacy-listing')
+                options%legacy_listing = .true.
             case ('-o', '--out')
                 if (i == n) then
                     call fatal_error(error, 'option '//trim(arg)//' needs a directory', &
@@ -204,6 +216,9 @@ contains
             '  --check       read and validate the decks only', &
             '  --out DIR     write results into DIR (it must exist)', &
             '  --quiet       print nothing but errors', &
+            '  --legacy-listing', &
+            '                also write DECK.lst: the legacy codes'' per-layer tables of', &
+            '                node displacements and element stresses and stress levels', &
             '  --version     print the version', &
             '  --help        print this help', &
             '', &

@@ -13,6 +13,9 @@
                  typed as a result table, agrees with a run of inputs/column.dat to
                  rtol 1e-9 (bilinear quads are exact at its nodes); the same table with one
                  value mistyped differs at that node;
+  legacy listing the listing of `cfrd --legacy-listing` agrees with the HDF5 file both ways
+                 to its printed digits (rtol 5e-6, stress levels 5e-5) and with the closed
+                 form; a copy with one stress changed is reported at that element and stage;
   regression     tools/regression.py fails on a reference with one value changed by 1e-6
                  of itself, naming that quantity, node, stage and component;
   bad input      a table with a word for a number is rejected with its file, line and
@@ -86,7 +89,7 @@ def main():
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
     for deck in ("inputs/column.dat", "inputs/tianshengqiao-x1.dat"):
-        proc = subprocess.run([args.cfrd, "--quiet", "--out", work, deck],
+        proc = subprocess.run([args.cfrd, "--quiet", "--legacy-listing", "--out", work, deck],
                               capture_output=True, text=True)
         if proc.returncode != 0:
             verdict(False, "setup", f"{deck}: cfrd exit {proc.returncode}: {proc.stderr[-300:]}")
@@ -167,6 +170,36 @@ def main():
     open(typo, "w").write("\n".join(lines) + "\n")
     check_perturbed("mistyped-table", typo, column, ("displacement", "uy", "node 15", 1),
                     "--rtol", "1e-9", "--atol", "1e-15")
+
+    # The legacy-style listing holds what the HDF5 file holds, to its printed digits
+    # (6 significant: rtol 5e-6; stress levels 4 decimals: 5e-5), both ways round: every
+    # placed node and active element at every stage (x1 has no joints, which it leaves out).
+    lst = os.path.join(work, "tianshengqiao-x1.lst")
+    printed = ["--rtol", "5e-6", "--tol", "stress_level=0,5e-5"]
+    status, report = run_compare(lst, x1, *printed)
+    last = report.strip().splitlines()[-1]
+    status2, report2 = run_compare(x1, lst, *printed, "--quantities",
+                                   "displacement_total,stress,principal,stress_level")
+    last2 = report2.strip().splitlines()[-1]
+    verdict(status == 0 and status2 == 0, "legacy-listing",
+            f"x1 .lst against .h5: {last}; .h5 against .lst: {last2}")
+    # The listing prints displacements since placement: the same table, so named.
+    total = os.path.join(work, "column-closed-form-total.csv")
+    open(total, "w").write(open(table).read().replace("stage,node,ux,uy",
+                                                      "stage,node,ux_total,uy_total"))
+    status, report = run_compare(total, os.path.join(work, "column.lst"), "--rtol", "5e-6")
+    verdict(status == 0, "legacy-listing-closed-form", f"{table} against column.lst, rtol "
+            f"5e-6 (its 6 printed digits): exit {status}, {report.strip().splitlines()[-1]}")
+    text = open(lst).read().split("\n")
+    start = text.index(next(l for l in text if l.startswith("1STAGE   30 ")))
+    start = next(i for i in range(start, len(text))
+                 if text[i].strip() == "ELEMENT STRESSES AT CENTROIDS")
+    k = next(i for i in range(start, len(text)) if text[i].startswith("     250 "))
+    text[k] = text[k][:26] + f"{float(text[k][26:39]) * 1.01:13.5E}" + text[k][39:]
+    bad_lst = os.path.join(work, "perturbed.lst")
+    open(bad_lst, "w").write("\n".join(text))
+    check_perturbed("perturbed-legacy-listing", lst, bad_lst,
+                    ("stress", "syy", "element 250", 30), "--rtol", "5e-6")
 
     # The regression suite fails on a reference with one value changed, and says where.
     refdir = os.path.join(work, "references")

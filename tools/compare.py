@@ -372,11 +372,78 @@ def read_csv(path):
     return rs.finish()
 
 
+def read_legacy_listing(path):
+    """A legacy-style listing written by `cfrd --legacy-listing` (DECK.lst): per stage the
+    nodal point displacements (since placement) and the element stresses, principal
+    stresses and stress levels, in the fixed columns of docs/results.md."""
+    rs = ResultSet(path)
+    with open_text(path) as fh:
+        lines = fh.read().splitlines()
+    if not lines or "LEGACY-STYLE LISTING" not in lines[0]:
+        raise InputError(f"{path}:1: not a legacy-style listing of cfrd (no "
+                         f"'LEGACY-STYLE LISTING' banner)")
+    stage, table = None, None
+    # (first column, width) of each field, 0-based, as write_legacy_listing writes them
+    node_fields = [("node", 0, 8), ("ux", 34, 13), ("uy", 47, 13)]
+    element_fields = [("element", 0, 8), ("sxx", 13, 13), ("syy", 26, 13), ("szz", 39, 13),
+                      ("sxy", 52, 13), ("s1", 65, 13), ("s3", 78, 13), ("level", 99, 9)]
+    for number, line in enumerate(lines, start=1):
+        m = re.match(r"1STAGE\s*(\d+)\s+(.*)$", line)
+        if m:
+            stage, table = int(m.group(1)), None
+            rs.stage_names[stage] = m.group(2).strip()
+            continue
+        if line.strip() == "NODAL POINT DISPLACEMENTS":
+            table = "node"
+            continue
+        if line.strip() == "ELEMENT STRESSES AT CENTROIDS":
+            table = "element"
+            continue
+        if not line.strip():
+            table = None                # a table ends at a blank line
+            continue
+        if table is None or line.lstrip().startswith(("NODE", "ELEM")):
+            continue                    # stage lines, column headers
+        fields = node_fields if table == "node" else element_fields
+        values = {}
+        for name, first, width in fields:
+            text_ = line[first:first + width].strip()
+            if name in ("node", "element"):
+                if not text_.isdigit():
+                    raise InputError(f"{path}:{number}:{first + 1}-{first + width}: "
+                                     f"{name} number expected, found '{text_}'")
+                loc = int(text_)
+            else:
+                values[name] = number_at(path, number, first, width, name, text_)
+        if stage is None:
+            raise InputError(f"{path}:{number}: a table row before the first STAGE line")
+        if table == "node":
+            for c in ("ux", "uy"):
+                rs.add_values("displacement_total", stage, loc, c, values[c])
+        else:
+            for c in ("sxx", "syy", "szz", "sxy"):
+                rs.add_values("stress", stage, loc, c, values[c])
+            for c in ("s1", "s3"):
+                rs.add_values("principal", stage, loc, c, values[c])
+            rs.add_values("stress_level", stage, loc, "level", values["level"])
+    return rs.finish()
+
+
+def number_at(path, line, first, width, name, field):
+    try:
+        return float(field)
+    except ValueError:
+        raise InputError(f"{path}:{line}:{first + 1}-{first + width}: field {name}: "
+                         f"expected a number, found '{field}'")
+
+
 def read_result_set(path, wanted=None):
     if not os.path.isfile(path):
         raise InputError(f"{path}: no such file")
     if path.endswith(".h5"):
         return read_h5(path, wanted)
+    if path.endswith(".lst"):
+        return read_legacy_listing(path)
     return read_csv(path)
 
 
@@ -585,7 +652,7 @@ def main(argv=None):
     parser = argparse.ArgumentParser(
         description="Compare two cfrd result sets quantity by quantity.",
         epilog="Details: docs/results.md, section 'Comparing results'.")
-    parser.add_argument("a", help="reference: .h5, .csv or .csv.gz")
+    parser.add_argument("a", help="reference: .h5, .csv, .csv.gz or .lst")
     parser.add_argument("b", help="compared result set (with --reduce: the output file)")
     parser.add_argument("--rtol", type=float, default=1e-9,
                         help="relative tolerance (default 1e-9)")
