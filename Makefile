@@ -8,6 +8,8 @@ DECK ?= inputs/tianshengqiao-x1.dat
 APT_PACKAGES := gfortran libsuitesparse-dev libhdf5-dev liblapack-dev libblas-dev \
                 pkg-config calculix-ccx libopenblas0-pthread
 PIP_PACKAGES := fpm numpy scipy matplotlib h5py tomli
+# Only for make slurm-check (CI): a private one-node Slurm cluster.
+SLURM_APT_PACKAGES := slurmctld slurmd slurm-client munge
 
 # HDF5's Fortran modules and libraries live in Debian's serial folders: ask pkg-config.
 HDF5_CFLAGS = $(shell pkg-config --cflags hdf5 2>/dev/null)
@@ -22,7 +24,7 @@ DECKS ?= $(wildcard inputs/*.dat)
 OUT ?= batch-results
 STUDY ?= inputs/studies/tianshengqiao-joint.dat
 
-.PHONY: run test bench batch study references deps build build-debug clean
+.PHONY: run test bench batch study references slurm-check deps build build-debug clean
 
 ## deps: install whatever is missing; a second call only checks (well under a second).
 deps:
@@ -66,6 +68,12 @@ study: build
 ## results changed beyond the regression tolerances (explain why in the commit)
 references: build
 	@python3 tools/regression.py --refresh --cfrd bin/cfrd
+
+## slurm-check: a study's job array through a real one-node Slurm cluster started for the
+## purpose (private munge key, ports and state under build/slurm-check; about 15 s; CI)
+slurm-check: build
+	@tools/ensure_deps.sh "$(SLURM_APT_PACKAGES)" ""
+	@tools/slurm_cluster_check.sh bin/cfrd build/slurm-check
 
 ## bench: timing figures (see docs/performance.md)
 bench: build

@@ -349,6 +349,8 @@ def main(argv=None):
     if args.expand_only:
         return 0
     if args.slurm:
+        # Slurm opens each task's --output file before the task runs: the folder must exist.
+        os.makedirs(results_dir, exist_ok=True)
         script = os.path.join(study_dir, "study.slurm")
         cfrd = args.cluster_cfrd or os.path.abspath(args.cfrd)
         write_slurm(script, os.path.abspath(os.path.join(study_dir, "decks.txt")),
