@@ -19,9 +19,11 @@ section 3), run by make test:
              that is no placeholder, a missing column and a value that is no number are
              each rejected with exit status 2 and a message naming file, line and columns;
   slurm      the job array script written by --slurm passes `bash -n`, has one task per
-             case (#SBATCH --array=1-4, decks.txt of four decks), refuses to run outside
-             Slurm, and, run as Slurm would run its tasks (SLURM_ARRAY_TASK_ID=1..4), gives
-             the results that --collect turns into the same closed-form table.
+             case (#SBATCH --array=1-4, decks.txt of four decks), its output folder exists
+             before submission (Slurm opens the tasks' output files there), refuses to run
+             outside Slurm, and, run as Slurm would run its tasks (SLURM_ARRAY_TASK_ID=1..4),
+             gives the results that --collect turns into the same closed-form table (a real
+             cluster runs it in make slurm-check).
 
     python3 tools/check_batch.py --cfrd CFRD --workdir DIR
 
@@ -230,11 +232,14 @@ def check_slurm(cfrd, work):
     ok = (syntax.returncode == 0 and "#SBATCH --array=1-4\n" in body
           and "#SBATCH --time=00:05:00\n" in body and len(decks) == 4
           and all(os.path.isfile(d) and os.path.isabs(d) for d in decks)
-          and f"exec {os.path.abspath(cfrd)} --out {os.path.abspath(sdir)}/results" in body)
+          and f"exec {os.path.abspath(cfrd)} --out {os.path.abspath(sdir)}/results" in body
+          # Slurm opens the tasks' output files there before they run.
+          and os.path.isdir(os.path.join(sdir, "results")))
     verdict(ok, "slurm/script", f"bash -n: {syntax.returncode}, #SBATCH --array=1-4 and "
             f"--time: {'#SBATCH --array=1-4' in body}, decks.txt: {len(decks)} decks "
             f"(expected 4, absolute paths), runs {os.path.abspath(cfrd)} into "
-            f"{os.path.abspath(sdir)}/results" + ("" if ok else "\n" + body))
+            f"{os.path.abspath(sdir)}/results (made before submission)"
+            + ("" if ok else "\n" + body))
     env = {k: v for k, v in os.environ.items() if not k.startswith("SLURM_")}
     outside = subprocess.run(["bash", script], capture_output=True, text=True, env=env)
     verdict(outside.returncode != 0 and "run this script with sbatch" in outside.stderr,

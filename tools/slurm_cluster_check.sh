@@ -83,12 +83,14 @@ for i in $(seq 100); do
     [[ $state == idle ]] && break
     sleep 0.2
 done
-[[ $state == idle ]] || fail "the node did not come up (state '$state'): $(tail -3 "$dir"/log/slurmctld.log)"
+[[ $state == idle ]] ||
+    fail "the node did not come up (state '$state'): $(tail -3 "$dir"/log/slurmctld.log)"
 echo "PASS slurm-cluster/up: one-node cluster $host ($cpus CPUs) on ports $ctld_port, $slurmd_port"
 
 study=$dir/study
 python3 tools/study.py test/study/column.dat --dir "$study" --cfrd "$cfrd" --slurm \
-    --sbatch=--time=00:05:00 >"$dir"/log/study.out 2>&1 || fail "study --slurm: $(cat "$dir"/log/study.out)"
+    --sbatch=--time=00:05:00 >"$dir"/log/study.out 2>&1 ||
+    fail "study --slurm: $(cat "$dir"/log/study.out)"
 timeout 300 sbatch --wait "$study"/study.slurm >"$dir"/log/sbatch.out 2>&1
 status=$?
 job=$(sed -n 's/^Submitted batch job //p' "$dir"/log/sbatch.out)
@@ -98,7 +100,8 @@ if [[ $status -eq 0 && $tasks -eq 4 ]]; then
 else
     fail "array: sbatch --wait exit $status, $tasks task outputs: $(cat "$dir"/log/sbatch.out)"
 fi
-python3 tools/study.py test/study/column.dat --dir "$study" --collect >"$dir"/log/collect.out 2>&1 ||
+python3 tools/study.py test/study/column.dat --dir "$study" --collect \
+    >"$dir"/log/collect.out 2>&1 ||
     fail "collect: $(cat "$dir"/log/collect.out)"
 python3 - "$study"/study-results.csv <<'PY'
 import csv, sys
