@@ -6,7 +6,7 @@ outputs/, and a fresh run must reproduce them.
     python3 tools/regression.py --refresh [--cfrd bin/cfrd] [--force] [DECK ...]
                                                                        (make references)
 
-The references are compact (docs/results.md, "Regression references"):
+The references are compact (docs/results.md, "The regression suite"):
 outputs/reference/DECK.csv.gz, written by `tools/compare.py --reduce`, holds at every stage
 the stage's counts, loads, residual, reservoir level, extreme displacements, gauges and
 slab openings, and at the last stage every field (displacements, reactions, centroid
@@ -16,18 +16,18 @@ Where outputs/ also holds a deck's CSV (DECK-gauges.csv, -openings.csv, -slab.cs
 
 Tolerances (|fresh - reference| <= atol + rtol |reference|, max = the largest |value| of
 that quantity in the reference), from the spread of results when only the round-off
-changes: the same decks run with OpenBLAS's Prescott and Sandybridge kernels and with one
-or two BLAS threads, on the project machine (docs/results.md has the figures):
+changes: release and debug builds, one or two BLAS threads, OpenBLAS's Prescott and
+Sandybridge kernels, on the project machine (docs/results.md has the table):
 
-  elastic decks (ELASTIC materials only):  1e-9 max; measured spread <= 2.3e-13 max;
+  elastic decks (ELASTIC materials only):  1e-9 max (measured spread <= 2.3e-13 max);
   nonlinear decks (EB or GOODMAN):         1e-5 max (measured <= 1.2e-8 max, on the x2
-      mesh; <= 6e-11 on the x1 meshes), stress levels 1e-4 max (measured 1.8e-6 on x2:
+      mesh; <= 1.1e-10 on the x1 meshes), stress levels 1e-4 max (measured 1.8e-6 on x2:
       the midpoint E-B path amplifies round-off), integer counts +-1 (a stress level within
       round-off of the 0.95 near-failure bound, or a Newton iteration converging right at
       its tolerance, can move a count by one on another machine), and the relative
       residual 1e-4 of itself (measured 7e-7) plus 1e-9;
-  every deck: the residual, a dimensionless out-of-balance, within 1e-9 absolute (it is
-      round-off, 1e-16 to 1e-12, in linear and Newton runs); counts of elastic decks exact.
+  elastic decks: the residual, a dimensionless out-of-balance and round-off (1e-16 to
+      1e-12) in a linear run, within 1e-9 absolute; counts exact.
 
 --refresh runs the decks with the release program and rewrites a deck's reference (and
 the CSVs and listing of it that outputs/ holds) only where the fresh results differ from
@@ -81,16 +81,6 @@ def tolerances_for(deck):
     default = table["default"]
     return {q: table.get(q, default) for q in compare.QUANTITIES}, default, \
         "elastic" if table is ELASTIC else "nonlinear"
-
-
-def tolerance_text(table):
-    rtol, atol, scaled = table["default"]
-    parts = [f"{atol:g} max"]
-    for q, (r, a, s) in table.items():
-        if q != "default":
-            parts.append(f"{q} " + (f"{a:g} max" if s else
-                                    (f"{r:g} rel + {a:g}" if r else f"{a:g}")))
-    return ", ".join(parts)
 
 
 def compare_files(ref, fresh, deck):
