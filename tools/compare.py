@@ -99,6 +99,7 @@ class ResultSet:
         self.stage_names = {}
         # quantity -> components the source holds, also where a reader skipped them
         self.available = {}
+        self._pending = {}          # values added one at a time, until finish()
 
     def add(self, quantity, stage, ids, components, values):
         self.blocks[(quantity, int(stage))] = Block(ids, components, values)
@@ -106,11 +107,12 @@ class ResultSet:
 
     def add_values(self, quantity, stage, loc, component, value):
         """One value at a time (CSV readers); merged into blocks by finish()."""
-        pending = self.__dict__.setdefault("_pending", {})
-        pending.setdefault((quantity, int(stage)), {}).setdefault(loc, {})[component] = value
+        by_loc = self._pending.setdefault((quantity, int(stage)), {})
+        by_loc.setdefault(loc, {})[component] = value
 
     def finish(self):
-        for (quantity, stage), by_loc in self.__dict__.pop("_pending", {}).items():
+        pending, self._pending = self._pending, {}
+        for (quantity, stage), by_loc in pending.items():
             comps = [c for c in QUANTITIES[quantity][1]
                      if any(c in v for v in by_loc.values())]
             ids = sorted(by_loc, key=sort_key)
