@@ -8,6 +8,8 @@ DECK ?= inputs/tianshengqiao-x1.dat
 APT_PACKAGES := gfortran libsuitesparse-dev libhdf5-dev liblapack-dev libblas-dev \
                 pkg-config calculix-ccx libopenblas0-pthread
 PIP_PACKAGES := fpm numpy scipy matplotlib h5py tomli meshio
+# Only for make slurm-check (CI): a private one-node Slurm cluster.
+SLURM_APT_PACKAGES := slurmctld slurmd slurm-client munge
 
 # HDF5's Fortran modules and libraries live in Debian's serial folders: ask pkg-config.
 HDF5_CFLAGS = $(shell pkg-config --cflags hdf5 2>/dev/null)
@@ -18,7 +20,11 @@ DEBUG_FLAGS = -O0 -g -Wall -fcheck=all -ffpe-trap=invalid,zero,overflow -fbacktr
 # fpm takes the subcommand first: $(call fpm,SUBCOMMAND,PROFILE,FLAGS)
 fpm = FPM_LDFLAGS="$(HDF5_LDIRS)" fpm $(1) --profile $(2) --flag "$(3)"
 
-.PHONY: run test bench figures deps build build-debug clean
+DECKS ?= $(wildcard inputs/*.dat)
+OUT ?= batch-results
+STUDY ?= inputs/studies/tianshengqiao-joint.dat
+
+.PHONY: run test bench figures batch study references slurm-check deps build build-debug clean
 
 ## deps: install whatever is missing; a second call only checks (well under a second).
 deps:
@@ -54,6 +60,27 @@ FIGURES ?= build/figures
 figures: build
 	@bin/cfrd --quiet $(DECK)
 	@python3 tools/figures.py $(basename $(DECK)).h5 --out $(FIGURES)
+
+## batch: run many decks at once, one process per deck on every core, then a summary table
+## (make batch DECKS="inputs/a.dat inputs/b.dat" [OUT=DIR] [JOBS=N]; docs/results.md)
+batch: build
+	@python3 tools/batch.py --cfrd bin/cfrd --out "$(OUT)" $(if $(JOBS),--jobs $(JOBS)) $(DECKS)
+
+## study: expand a template deck over its parameter table, run the cases, table and figure
+## (make study [STUDY=TEMPLATE.dat] [JOBS=N]; results in study-TEMPLATE/)
+study: build
+	@python3 tools/study.py --cfrd bin/cfrd $(if $(JOBS),--jobs $(JOBS)) $(STUDY)
+
+## references: rerun inputs/*.dat and rewrite the references in outputs/reference/ whose
+## results changed beyond the regression tolerances (explain why in the commit)
+references: build
+	@python3 tools/regression.py --refresh --cfrd bin/cfrd
+
+## slurm-check: a study's job array through a real one-node Slurm cluster started for the
+## purpose (private munge key, ports and state under build/slurm-check; about 15 s; CI)
+slurm-check: build
+	@tools/ensure_deps.sh "$(SLURM_APT_PACKAGES)" ""
+	@tools/slurm_cluster_check.sh bin/cfrd build/slurm-check
 
 ## bench: timing figures (see docs/performance.md)
 bench: build

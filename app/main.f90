@@ -18,6 +18,7 @@ program cfrd_main
     type :: options_t
         logical :: check_only = .false.
         logical :: quiet = .false.
+        logical :: legacy_listing = .false.   !! also DECK.lst, the legacy-style tables
         character(len=:), allocatable :: out_dir
     end type options_t
 
@@ -83,7 +84,8 @@ contains
                 stem = strip_extension(path)
             end if
             ! Each stage goes to the files when it is done; results keeps the last only.
-            if (.not. allocated(error)) call begin_output(current%output, stem, model, error)
+            if (.not. allocated(error)) call begin_output(current%output, stem, model, error, &
+                                                         options%legacy_listing)
             if (.not. allocated(error)) then
                 call run_analysis(model, results, error, stream_stage, last_only=.true.)
                 if (allocated(error)) then
@@ -118,6 +120,8 @@ contains
                 else
                     write (output_unit, '(a)') ''
                 end if
+                if (options%legacy_listing) write (output_unit, '(a)') &
+                    'Legacy-style listing: '//stem//'.lst'
             end if
         end associate
     end subroutine run_deck
@@ -184,6 +188,8 @@ contains
                 options%check_only = .true.
             case ('-q', '--quiet')
                 options%quiet = .true.
+            case ('--legacy-listing')
+                options%legacy_listing = .true.
             case ('-o', '--out')
                 if (i == n) then
                     call fatal_error(error, 'option '//trim(arg)//' needs a directory', &
@@ -222,6 +228,9 @@ contains
             '  --check       read and validate the decks only', &
             '  --out DIR     write results into DIR (it must exist)', &
             '  --quiet       print nothing but errors', &
+            '  --legacy-listing', &
+            '                also write DECK.lst: the legacy codes'' per-layer tables of', &
+            '                node displacements and element stresses and stress levels', &
             '  --version     print the version', &
             '  --help        print this help', &
             '', &

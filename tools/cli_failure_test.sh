@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # A failed run must leave the results of an earlier run byte-identical (issue 3, section 2)
 # and keep what it completed in DECK.incomplete.h5 (issue 8, section 1; docs/results.md):
-#   1. a good staged deck (two squares placed one after the other) writes block.out, .h5, .xmf;
+#   1. a good staged deck (two squares placed one after the other) writes block.out, .h5, .xmf
+#      and the legacy-style listing block.lst;
 #   2. bad input (exit 2) changes nothing and writes nothing;
+#   (every later run asks for the legacy-style listing too, which must stay untouched)
 #   3. the second square floating (singular at stage 2, exit 1): the earlier files are
 #      byte-identical, no *.part file is left, block.incomplete.h5 has complete = 0,
 #      stages_completed = 1, the failure message, and its stage 1 equals stage 1 of the good
@@ -50,19 +52,19 @@ fail() { echo "$1"; exit 1; }
 
 # 1. Good: both squares sit on fixed nodes, placed one after the other.
 write_deck "$both_fixed" "$staged"
-"$cfrd" --quiet "$deck" || fail "good deck failed"
-results="$dir/block.out $dir/block.h5 $dir/block.xmf"
+"$cfrd" --quiet --legacy-listing "$deck" || fail "good deck failed"
+results="$dir/block.out $dir/block.h5 $dir/block.xmf $dir/block.lst"
 before=$(sha256sum $results)
 
 # 2. Bad input: a negative Young's modulus.
 sed -i 's/^    1.0e4 /   -1.0e4 /' "$deck"
-"$cfrd" --quiet "$deck" 2>/dev/null
+"$cfrd" --quiet --legacy-listing "$deck" 2>/dev/null
 [[ $? -eq 2 ]] || fail "bad deck did not exit 2"
 [[ -e $dir/block.incomplete.h5 ]] && fail "bad input wrote block.incomplete.h5"
 
 # 3. Numerical failure at stage 2: the second square floats (its nodes are not supported).
 write_deck "    1    2    1    1    1" "$staged"
-"$cfrd" --quiet "$deck" 2>"$dir/err.txt"
+"$cfrd" --quiet --legacy-listing "$deck" 2>"$dir/err.txt"
 status=$?
 [[ $status -eq 1 ]] || { cat "$dir/err.txt"; fail "floating square: exit $status, expected 1"; }
 grep -q "singular" "$dir/err.txt" || fail "no 'singular' in: $(cat "$dir/err.txt")"

@@ -3,7 +3,8 @@
 #   1. the Fortran suites (test/main.f90),
 #   2. the command line: bad decks (exit 2 and the message), exit statuses, results left
 #      untouched by a failed run,
-#   3. the independent peer: the same embankment through CalculiX.
+#   3. the independent peer: the same embankment through CalculiX, and the other tool checks,
+#   4. batch runs, studies, the comparison tool and the regression suite.
 # Every check prints PASS or FAIL; the last line is exactly `N passed, N failed`.
 set -u
 fortran_log=$1            # output of `fpm test` on the debug build (from the Makefile)
@@ -112,6 +113,13 @@ tool_checks "figures" python3 tools/check_figures.py --run "$cfrd" --workdir "$w
 # The zig-zag measure of tools/interface_zigzag.py (docs/tianshengqiao.md section 7.4) on
 # closed forms.
 tool_checks "interface zigzag" python3 tools/interface_zigzag.py --selftest
+
+# 4. Results people use: batch runs, parametric studies and their Slurm arrays; the
+# comparison tool; the regression suite (every deck in inputs/ against outputs/reference/).
+tool_checks "batch" python3 tools/check_batch.py --cfrd "$cfrd" --workdir "$work/batch"
+tool_checks "compare" python3 tools/check_compare.py --cfrd "$cfrd" --workdir "$work/compare"
+tool_checks "regression" python3 tools/regression.py --cfrd "$cfrd" \
+    --workdir "$work/regression"
 
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

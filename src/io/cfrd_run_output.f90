@@ -20,6 +20,8 @@ module cfrd_run_output
     use cfrd_interface_io, only: interface_csv_t, open_interface_csv, append_interface_csv, &
                                  close_interface_csv, write_openings_csv, has_interfaces, &
                                  has_slab, has_contact, has_openings
+    use cfrd_legacy_listing, only: open_legacy_listing, append_legacy_stage, &
+                                   close_legacy_listing
     use cfrd_files, only: move_file, delete_file, base_name
     implicit none
     private
@@ -30,9 +32,10 @@ module cfrd_run_output
     !> Suffix of the files being written; of the results file a failed run leaves.
     character(len=*), parameter :: part = '.part', incomplete = '.incomplete'
     !> Every file a run may write after the stem (DECK.out, DECK.h5, ...).
-    character(len=*), parameter :: endings(8) = [character(len=14) :: '.out', '.h5', '.xmf', &
+    character(len=*), parameter :: endings(9) = [character(len=14) :: '.out', '.h5', '.xmf', &
                                                  '-gauges.csv', '-interface.csv', &
-                                                 '-openings.csv', '-slab.csv', '-contact.csv']
+                                                 '-openings.csv', '-slab.csv', '-contact.csv', &
+                                                 '.lst']
 
     !> The files of a run being written.
     type :: run_output_t
@@ -42,22 +45,26 @@ module cfrd_run_output
         !> (nstages) one per stage; the first `completed` are filled
         type(stage_summary_t), allocatable :: summaries(:)
         integer :: completed = 0
+        integer :: legacy_unit = 0                      !! DECK.lst.part, open (--legacy-listing)
         real(dp) :: t_start = 0.0_dp                    !! s, wall clock at begin_output
     end type run_output_t
 
 contains
 
     !> Open the temporary files of a run of `model` whose results go to `stem`.* .
-    subroutine begin_output(out, stem, model, error)
+    subroutine begin_output(out, stem, model, error, legacy_listing)
         type(run_output_t), intent(out) :: out
         character(len=*), intent(in) :: stem
         type(model_t), intent(in) :: model
         type(error_t), allocatable, intent(out) :: error
+        logical, intent(in) :: legacy_listing    !! also DECK.lst (cfrd --legacy-listing)
         out%stem = stem
         out%t_start = wall_seconds()
         allocate (out%summaries(size(model%stages)))
         call open_results_h5(out%h5, stem//'.h5'//part, model, error)
         if (.not. allocated(error)) call open_interface_csv(out%csv, stem, part, model, error)
+        if (.not. allocated(error) .and. legacy_listing) &
+            call open_legacy_listing(stem//'.lst'//part, model, out%legacy_unit, error)
         if (allocated(error)) call discard_output(out)
     end subroutine begin_output
 
@@ -72,6 +79,11 @@ contains
         if (allocated(error)) return
         call append_interface_csv(out%csv, model, number, stage, error)
         if (allocated(error)) return
+        if (out%legacy_unit /= 0) then
+            call append_legacy_stage(out%legacy_unit, out%stem//'.lst'//part, model, number, &
+                                     stage, error)
+            if (allocated(error)) return
+        end if
         out%summaries(number) = summarise(model, stage)
         out%completed = number
     end subroutine add_stage
@@ -90,9 +102,14 @@ contains
         integer :: k
         associate (stem => out%stem, summaries => out%summaries(1:out%completed))
             written = [.true., .true., .true., .false., has_interfaces(model), &
-                       has_openings(model), has_slab(model), has_contact(model)]
+                       has_openings(model), has_slab(model), has_contact(model), &
+                       out%legacy_unit /= 0]
             if (allocated(model%gauges)) written(4) = size(model%gauges) > 0
             call close_interface_csv(out%csv, error)
+            if (.not. allocated(error) .and. written(9)) then
+                call close_legacy_listing(out%legacy_unit, stem//'.lst'//part, error)
+                out%legacy_unit = 0
+            end if
             if (.not. allocated(error)) &
                 call close_results_h5(out%h5, .true., error, wall_time=wall_time)
             if (.not. allocated(error)) &
@@ -129,6 +146,8 @@ contains
         character(len=:), allocatable :: stem
         stem = out%stem
         call close_interface_csv(out%csv)
+        if (out%legacy_unit /= 0) close (out%legacy_unit)
+        out%legacy_unit = 0
         call close_results_h5(out%h5, .false., error, wall_time=wall_seconds() - out%t_start, &
                               failure=failure)
         call delete_file(stem//incomplete//'.xmf')
@@ -148,6 +167,8 @@ contains
         type(run_output_t), intent(inout) :: out
         integer :: k
         call close_interface_csv(out%csv)
+        if (out%legacy_unit /= 0) close (out%legacy_unit)
+        out%legacy_unit = 0
         call close_results_h5(out%h5, .false.)
         do k = 1, size(endings)
             call delete_file(out%stem//trim(endings(k))//part)
