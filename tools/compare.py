@@ -55,6 +55,7 @@ QUANTITIES = {
     "opening": ("phase", ("width", "depth")),
     "interface": ("station", ("sigma_n", "tau", "du_n", "du_s")),
     "slab": ("section", ("axial", "shear", "moment")),
+    "contact": ("slave", ("gap", "slip", "sigma_n", "tau")),
 }
 
 # Result tables (typed from legacy listings): column -> (quantity, component).
@@ -235,6 +236,21 @@ def read_h5(path, wanted=None):
                             ids.append(f"{int(iface_elements[i])}/{p + 1}")
                             vals.append([c[i, p] for c in cols])
                     rs.add("interface", s, ids, QUANTITIES["interface"][1], vals)
+            if "contact" in g:
+                r = g["contact"]
+                if "opening_width" in r and want("opening"):
+                    ids = [group_names[k - 1] if 0 < k <= len(group_names) else str(k)
+                           for k in r["opening_group"][...]]
+                    rs.add("opening", s, ids, ("width", "depth"),
+                           np.column_stack([r["opening_width"][...], r["opening_depth"][...]]))
+                if "gap" in r and want("contact"):
+                    on = r["placed"][...].astype(bool)
+                    nodes = r["node"][...][on]
+                    if len(nodes):
+                        rs.add("contact", s, [int(k) for k in nodes],
+                               QUANTITIES["contact"][1],
+                               np.column_stack([r[c][...][on] for c in
+                                                QUANTITIES["contact"][1]]))
             if "slab" in g and "axial" in g["slab"] and want("slab"):
                 r = g["slab"]
                 n = len(r["axial"])
@@ -306,7 +322,7 @@ def read_csv(path):
                 raise InputError(f"{path}:{line}: unknown quantity/component '{q}/{comp}'")
             s = stage_of(line, row)
             loc = row[2].split(" ", 1)[-1] if row[2] != "-" else "-"
-            if QUANTITIES[q][0] in ("node", "element", "section"):
+            if QUANTITIES[q][0] in ("node", "element", "section", "slave"):
                 loc = int(loc)
             rs.add_values(q, s, loc, comp, number(path, line, "value", row[4]))
         return rs.finish()
@@ -617,7 +633,7 @@ def reduce_results(path, out, full_stages="last", header=()):
     rs = read_h5(path)
     last = max(s for _, s in rs.blocks)
     per_stage = ("counts", "loads", "residual", "water_level", "extremes", "gauge",
-                 "opening")
+                 "opening", "contact")
     lines = [f"# {h}" for h in header] + ["quantity,stage,location,component,value"]
     for (q, s) in sorted(rs.blocks, key=lambda k: (k[1], list(QUANTITIES).index(k[0]))):
         if q not in per_stage and full_stages == "last" and s != last:
