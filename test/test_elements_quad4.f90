@@ -9,6 +9,10 @@ module test_elements_quad4
     use cfrd_elastic, only: elastic_dmatrix, constrained_modulus
     use cfrd_edge_load, only: face_pressure_forces
     use cfrd_principal, only: principal_stresses
+    use cfrd_model, only: model_t, stage_t, stage_load, elem_quad4_shear
+    use cfrd_results, only: results_t
+    use cfrd_stage_driver, only: run_analysis
+    use cfrd_test_models, only: new_model, elastic_material, add_pressure
     implicit none
     private
 
@@ -32,7 +36,9 @@ contains
                 new_unittest('body_force_total', test_body_force), &
                 new_unittest('pressure_resultant_and_moment', test_pressure), &
                 new_unittest('plane_strain_sigma_zz', test_sigma_zz), &
-                new_unittest('principal_stresses', test_principal) &
+                new_unittest('principal_stresses', test_principal), &
+                new_unittest('q4s_rigid_modes_and_constant_strain', test_q4s_patch), &
+                new_unittest('q4s_cantilever_pure_bending', test_q4s_bending) &
                 ]
     end subroutine collect_elements_quad4
 
@@ -186,4 +192,114 @@ contains
             dmat(:, :, ig) = d
         end do
     end subroutine all_points
+
+    !> Q4S (the natural shear strain of the centre) keeps what the quad must: on the distorted
+    !> quad, the three rigid-body modes give no force (1e-10 of K), and a uniform strain
+    !> field (linear displacements) gives the same strains at every Gauss point (1e-12),
+    !> since its shear strain is the same at the centre: the patch test.
+    subroutine test_q4s_patch(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(quad4_t) :: quad
+        real(dp) :: ke(8, 8), dmat(4, 4, 4), r(8, 3), f(8), u(8), strain(4, 4)
+        real(dp), parameter :: grad(2, 2) = reshape([1.0e-3_dp, -4.0e-4_dp, 7.0e-4_dp, &
+                                                     2.0e-4_dp], [2, 2])
+        integer :: k, mode, ig
+        quad = quad4_t(assumed_shear=.true.)
+        call all_points(elastic_dmatrix(e_mod, nu), dmat)
+        call quad%stiffness(x_distorted, dmat, ke)
+        do k = 1, 4
+            r(2*k - 1:2*k, 1) = [1.0_dp, 0.0_dp]
+            r(2*k - 1:2*k, 2) = [0.0_dp, 1.0_dp]
+            r(2*k - 1:2*k, 3) = [-x_distorted(2, k), x_distorted(1, k)]
+            u(2*k - 1:2*k) = matmul(grad, x_distorted(:, k))
+        end do
+        do mode = 1, 3
+            f = matmul(ke, r(:, mode))
+            call check(error, maxval(abs(f)), 0.0_dp, 'Q4S rigid mode force', &
+                       abs=1e-10_dp*maxval(abs(ke)))
+            if (allocated(error)) return
+        end do
+        call quad%strains(x_distorted, u, strain)
+        do ig = 1, 4
+            call check(error, strain(1, ig), grad(1, 1), 'Q4S eps_xx', rel=1e-12_dp)
+            if (allocated(error)) return
+            call check(error, strain(2, ig), grad(2, 2), 'Q4S eps_yy', rel=1e-12_dp)
+            if (allocated(error)) return
+            call check(error, strain(4, ig), grad(1, 2) + grad(2, 1), 'Q4S gamma_xy', &
+                       rel=1e-12_dp)
+            if (allocated(error)) return
+        end do
+    end subroutine test_q4s_patch
+
+    !> A cantilever 10 m long and 0.5 m deep (nu = 0) in pure bending: a moment M = 100
+    !> kN m/m applied as the linear traction sigma_xx = M y / I on its end, x fixed at the
+    !> root and y at its root's mid node. Beam theory, exact here: tip deflection
+    !> v = M L^2 / (2 E I). 10 x 2 elements (each 1 x 0.25 m); rectangles, then every row
+    !> sheared into parallelograms (the slab's shape: horizontal ends, 35 deg slope).
+    !> Q4S: 1e-10 on rectangles, 6 % on parallelograms (the skew costs a little: their
+    !> normal strains stay bilinear); Q4 locks (a third of the deflection, reported).
+    subroutine test_q4s_bending(error)
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), parameter :: length = 10.0_dp, depth = 0.5_dp, e = 1.0e7_dp, moment = 100.0_dp
+        real(dp) :: exact, tip(2, 2)
+        integer :: kind, shape
+        ! (downwards: the top fibre is in tension)
+        exact = -moment*length**2/(2.0_dp*e*depth**3/12.0_dp)
+        do shape = 1, 2
+            do kind = 1, 2
+                call cantilever(kind == 2, shape == 2, tip(kind, shape), error)
+                if (allocated(error)) return
+            end do
+        end do
+        write (*, '(a,4f9.4)') '  cantilever tip / beam theory: Q4, Q4S rectangles; Q4, Q4S '// &
+            'parallelograms:', tip(:, 1)/exact, tip(:, 2)/exact
+        call check(error, tip(2, 1), exact, 'Q4S rectangles, tip deflection', rel=1e-10_dp)
+        if (allocated(error)) return
+        call check(error, tip(2, 2), exact, 'Q4S parallelograms, tip deflection', rel=0.06_dp)
+    contains
+        subroutine cantilever(q4s, skewed, v, error)
+            logical, intent(in) :: q4s, skewed
+            real(dp), intent(out) :: v
+            type(error_t), allocatable, intent(out) :: error
+            integer, parameter :: nx = 10, ny = 2
+            real(dp) :: x(2, (nx + 1)*(ny + 1)), yc, inertia
+            integer :: conn(4, nx*ny), i, j, k
+            type(model_t) :: model
+            type(results_t) :: results
+            do j = 0, ny
+                do i = 0, nx
+                    ! skewed: each row shifted along the beam by y / tan 35 deg
+                    x(:, j*(nx + 1) + i + 1) = [length*i/nx + merge(depth*j/ny/0.7_dp, &
+                                                0.0_dp, skewed), depth*j/ny - 0.5_dp*depth]
+                end do
+            end do
+            k = 0
+            do j = 0, ny - 1
+                do i = 1, nx
+                    k = k + 1
+                    conn(:, k) = [j*(nx + 1) + i, j*(nx + 1) + i + 1, &
+                                  (j + 1)*(nx + 1) + i + 1, (j + 1)*(nx + 1) + i]
+                end do
+            end do
+            call new_model(model, x, conn, [(1, i=1, nx*ny)], [elastic_material(e, 0.0_dp, &
+                                                                                0.0_dp)])
+            allocate (model%slab_groups(0), model%gauges(0), model%wet_faces(0))
+            if (q4s) model%mesh%kind = elem_quad4_shear
+            do j = 0, ny
+                model%fixed(1, j*(nx + 1) + 1) = .true.
+            end do
+            model%fixed(2, (ny/2)*(nx + 1) + 1) = .true.
+            inertia = depth**3/12.0_dp
+            do j = 1, ny
+                ! face 2 of the last element of row j: from y_(j-1) to y_j; p = -sigma_xx
+                yc = depth*(j - 1)/ny - 0.5_dp*depth
+                call add_pressure(model, j*nx, 2, -moment*yc/inertia, &
+                                  -moment*(yc + depth/ny)/inertia)
+            end do
+            model%stages(1) = stage_t(kind=stage_load, load_set=1, increments=1, label='M')
+            call run_analysis(model, results, error)
+            if (allocated(error)) return
+            v = results%stages(1)%displacement(2, (ny/2)*(nx + 1) + nx + 1)
+        end subroutine cantilever
+    end subroutine test_q4s_bending
 end module test_elements_quad4

@@ -572,7 +572,9 @@ def gauge_nodes(geo, num):
 
 
 def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="bonded",
-               rule="LOBATTO"):
+               rule="LOBATTO", slab_type=None):
+    if slab_type is None:
+        slab_type = "Q4S" if interface == "contact" else "Q4"
     gauges = gauge_nodes(geo, num)
     info = describe(geo, r, num)
     lines = []
@@ -618,8 +620,11 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
     add("ELEMENTS")
     add("*  NE    I    J    K    L  MAT NGEN NINC GROUP")
     for e, (c, q) in enumerate(zip(num.conn, num.quads), 1):
+        # The slab of the contact deck in Q4S quads (no parasitic shear in bending: its
+        # elements are 20-30 times longer than thick and bend with the cushion).
+        etype = "Q4S" if (q.kind == "slab" and slab_type == "Q4S") else ""
         add(fmt_int(e) + "".join(fmt_int(v) for v in c) + fmt_int(q.material) + " " * 10
-            + fmt_alpha(q.group))
+            + fmt_alpha(q.group) + (fmt_alpha(etype).rstrip() if etype else ""))
     add("MATERIALS")
     for m, zone in enumerate(ZONES, 1):
         p = geo.raw["materials"][zone]
@@ -749,6 +754,8 @@ def main(argv=None):
     parser.add_argument("--solver", default="midpoint", choices=["midpoint", "newton"],
                         help="midpoint stiffness (the paper's) or Newton to 1e-10")
     parser.add_argument("--report", action="store_true", help="print the mesh quality")
+    parser.add_argument("--slab-element", choices=["Q4", "Q4S"], default=None,
+                        help="element type of the slab (default: Q4S for contact, Q4 else)")
     parser.add_argument("--rule", default="LOBATTO", choices=["LOBATTO", "GAUSS"],
                         help="integration rule of the joints (--interface joint)")
     args = parser.parse_args(argv)
@@ -767,7 +774,7 @@ def main(argv=None):
         geo, num, stages, notes = generate(r, geo, interface)
         if path is not None:
             info = write_deck(geo, r, num, stages, notes, path, args.solver, interface,
-                              args.rule)
+                              args.rule, args.slab_element)
         else:
             info = describe(geo, r, num)
         if args.report or path is None:

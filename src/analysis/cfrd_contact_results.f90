@@ -39,9 +39,10 @@ contains
     end subroutine record_contact
 
     !> The opening of each slab phase of each pair: the placed slave segments of one element
-    !> group (the group that places the slab phase; nothing before it is placed). Width = the largest gap; depth = the length
-    !> along the surface from the phase's top end (its highest node) down to the first node
-    !> that is not separated (the gap is zero there and positive all the way above it).
+    !> group (the group that places the slab phase; nothing before it is placed). Width = the
+    !> largest gap of its separated nodes; depth = the length along the surface from the
+    !> phase's top end (its highest node) down to the first node that is not separated (the
+    !> gap is zero there and positive all the way above it).
     subroutine contact_openings(model, contact, active, result, openings)
         type(model_t), intent(in) :: model
         type(contact_t), intent(in) :: contact
@@ -71,8 +72,12 @@ contains
                 opening%top = model%mesh%x(:, contact%node(top))
                 opening%length = contact%s(top) - contact%s(order(1))
                 if (any(contact%placed(order))) then
-                    opening%width = max(0.0_dp, maxval(result%gap(order), &
-                                                       mask=contact%placed(order)))
+                    ! (a closed node's gap is zero up to round-off: not an opening)
+                    opening%width = 0.0_dp
+                    do i = 1, size(order)
+                        if (separated(order(i))) opening%width = max(opening%width, &
+                                                                     result%gap(order(i)))
+                    end do
                     opening%max_compression = min(0.0_dp, minval(result%sigma_n(order)))
                     do i = size(order), 1, -1
                         c = order(i)

@@ -4,7 +4,8 @@ module cfrd_element_library
     use cfrd_element, only: element_t
     use cfrd_quad4, only: quad4_t
     use cfrd_joint4, only: joint4_t
-    use cfrd_model, only: elem_quad4, elem_joint_gauss, elem_joint_lobatto, axisymmetric
+    use cfrd_model, only: elem_quad4, elem_quad4_shear, elem_joint_gauss, elem_joint_lobatto, &
+                          axisymmetric
     implicit none
     private
 
@@ -22,6 +23,9 @@ contains
         select case (kind)
         case (elem_quad4)
             allocate (element, source=quad4_t(axisymmetric=analysis == axisymmetric))
+        case (elem_quad4_shear)
+            allocate (element, source=quad4_t(axisymmetric=analysis == axisymmetric, &
+                                              assumed_shear=.true.))
         case (elem_joint_gauss, elem_joint_lobatto)
             allocate (element, source=joint4_t(lobatto=kind == elem_joint_lobatto, &
                                                axisymmetric=analysis == axisymmetric))

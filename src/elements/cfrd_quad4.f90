@@ -3,6 +3,9 @@
 !> with nodes 3 and 4 at one place: the Gauss points stay inside, where det J > 0.
 !> Axisymmetric: x is the radius r, y the axis z; the zz component is the hoop strain u_r / r
 !> and every integral is per radian (dV = r dA).
+!> With `assumed_shear` (element type Q4S) the natural shear strain is taken at the element's
+!> centre at every Gauss point (an assumed shear strain, docs/theory.md section 3): a slender
+!> element in bending no longer locks in parasitic shear (the face slab).
 module cfrd_quad4
     use cfrd_kinds, only: dp
     use cfrd_element, only: element_t
@@ -17,10 +20,12 @@ module cfrd_quad4
 
     type, extends(element_t) :: quad4_t
         logical :: axisymmetric = .false.
+        logical :: assumed_shear = .false.   !! Q4S: natural shear strain from the centre
     contains
         procedure, nopass :: nodes
         procedure, nopass :: gauss_points
         procedure, nopass :: components
+        procedure :: element_bmatrix
         procedure :: stiffness
         procedure :: strains
         procedure :: internal_force
@@ -76,6 +81,45 @@ contains
         end if
     end subroutine quad4_bmatrix
 
+    !> The strain-displacement matrix of the element at (xi, eta): the standard one, or (Q4S)
+    !> with the natural shear strain of the centre: at each point the strain is written in
+    !> the natural components of the centre, E = J0 eps J0^T (J0 the Jacobian at the centre),
+    !> E_xi_eta is replaced by its value at the centre, and eps = J0^-1 E J0^-T. A uniform
+    !> strain keeps its value everywhere (the patch test, any shape); on a parallelogram the
+    !> linear E_xi_eta of bending (parasitic shear) is gone. Triangles (nodes 3 and 4 at one
+    !> place) keep the standard matrix.
+    pure subroutine element_bmatrix(self, x, xi, eta, bee, dv)
+        class(quad4_t), intent(in) :: self
+        real(dp), intent(in) :: x(:, :), xi, eta
+        real(dp), intent(out) :: bee(ncomp, ndof), dv
+        real(dp) :: b0(ncomp, ndof), dv0, jac0(2, 2), jinv0(2, 2), e(2, 2), e0(2, 2)
+        integer :: k
+        call quad4_bmatrix(x, xi, eta, self%axisymmetric, bee, dv)
+        if (.not. self%assumed_shear) return
+        if (all(x(:, 3) == x(:, 4))) return
+        call quad4_bmatrix(x, 0.0_dp, 0.0_dp, self%axisymmetric, b0, dv0)
+        jac0 = matmul(shape_der(0.0_dp, 0.0_dp), transpose(x(:, 1:nnode)))
+        jinv0 = reshape([jac0(2, 2), -jac0(2, 1), -jac0(1, 2), jac0(1, 1)], [2, 2])/ &
+                (jac0(1, 1)*jac0(2, 2) - jac0(1, 2)*jac0(2, 1))
+        do k = 1, ndof
+            e = matmul(jac0, matmul(tensor(bee(:, k)), transpose(jac0)))
+            e0 = matmul(jac0, matmul(tensor(b0(:, k)), transpose(jac0)))
+            e(1, 2) = e0(1, 2)
+            e(2, 1) = e0(1, 2)
+            e = matmul(jinv0, matmul(e, transpose(jinv0)))
+            bee(1, k) = e(1, 1)
+            bee(2, k) = e(2, 2)
+            bee(4, k) = 2.0_dp*e(1, 2)
+        end do
+    contains
+        !> In-plane strain tensor of (xx, yy, zz, xy engineering) components.
+        pure function tensor(col) result(t)
+            real(dp), intent(in) :: col(ncomp)
+            real(dp) :: t(2, 2)
+            t = reshape([col(1), 0.5_dp*col(4), 0.5_dp*col(4), col(2)], [2, 2])
+        end function tensor
+    end subroutine element_bmatrix
+
     pure subroutine stiffness(self, x, dmat, ke)
         class(quad4_t), intent(in) :: self
         real(dp), intent(in) :: x(:, :), dmat(:, :, :)
@@ -85,7 +129,7 @@ contains
         call gauss_2x2(points, weights)
         ke(1:ndof, 1:ndof) = 0.0_dp
         do ig = 1, ngauss
-            call quad4_bmatrix(x, points(1, ig), points(2, ig), self%axisymmetric, bee, dv)
+            call self%element_bmatrix(x, points(1, ig), points(2, ig), bee, dv)
             db = matmul(dmat(:, :, ig), bee)*(dv*weights(ig))
             ke(1:ndof, 1:ndof) = ke(1:ndof, 1:ndof) + matmul(transpose(bee), db)
         end do
@@ -99,7 +143,7 @@ contains
         integer :: ig
         call gauss_2x2(points, weights)
         do ig = 1, ngauss
-            call quad4_bmatrix(x, points(1, ig), points(2, ig), self%axisymmetric, bee, dv)
+            call self%element_bmatrix(x, points(1, ig), points(2, ig), bee, dv)
             strain(:, ig) = matmul(bee, u(1:ndof))
         end do
     end subroutine strains
@@ -113,7 +157,7 @@ contains
         call gauss_2x2(points, weights)
         fe(1:ndof) = 0.0_dp
         do ig = 1, ngauss
-            call quad4_bmatrix(x, points(1, ig), points(2, ig), self%axisymmetric, bee, dv)
+            call self%element_bmatrix(x, points(1, ig), points(2, ig), bee, dv)
             fe(1:ndof) = fe(1:ndof) + matmul(transpose(bee), stress(:, ig))*(dv*weights(ig))
         end do
     end subroutine internal_force

@@ -10,7 +10,8 @@ module cfrd_deck
                           wet_face_t, gauge_t, newtop_zero, &
                           newtop_count, solver_midpoint, solver_newton, &
                           plane_strain, axisymmetric, law_elastic, law_duncan_eb, law_goodman, &
-                          elem_quad4, elem_joint_gauss, elem_joint_lobatto, is_joint_kind, &
+                          elem_quad4, elem_quad4_shear, elem_joint_gauss, &
+                          elem_joint_lobatto, is_joint_kind, &
                           interface_element_t, method_joint, method_thin, all_groups, &
                           contact_surface_t, contact_pair_t, scheme_mortar, scheme_nts, &
                           search_linear
@@ -74,7 +75,7 @@ module cfrd_deck
                                 field_t('Y1', 26, 10, real_field), &
                                 field_t('X2', 36, 10, real_field), &
                                 field_t('Y2', 46, 10, real_field)]
-    type(field_t), parameter :: element_fields(9) = [ &
+    type(field_t), parameter :: element_fields(10) = [ &
                                 field_t('NE', 1, 5, int_field), &
                                 field_t('I', 6, 5, int_field), &
                                 field_t('J', 11, 5, int_field), &
@@ -83,7 +84,8 @@ module cfrd_deck
                                 field_t('MAT', 26, 5, int_field), &
                                 field_t('NGEN', 31, 5, int_field), &
                                 field_t('NINC', 36, 5, int_field), &
-                                field_t('GROUP', 41, 10, text_field)]
+                                field_t('GROUP', 41, 10, text_field), &
+                                field_t('TYPE', 51, 10, text_field)]
     type(field_t), parameter :: material_fields(3) = [ &
                                 field_t('M', 1, 5, int_field), &
                                 field_t('LAW', 6, 10, text_field), &
@@ -938,12 +940,13 @@ contains
         type(model_t), intent(inout) :: model
         integer, allocatable, intent(out) :: element_line(:)
         type(error_t), allocatable, intent(out) :: error
-        integer, allocatable :: first(:), nodes(:, :), mat(:), ngen(:), ninc(:), grp(:)
+        integer, allocatable :: first(:), nodes(:, :), mat(:), ngen(:), ninc(:), grp(:), &
+                                kinds(:)
         character(len=10), allocatable :: names(:)
         character(len=:), allocatable :: name, ctx
         integer :: i, k, g, e, limit, nelem, nnode, a, b
         allocate (first(group%n), nodes(4, group%n), mat(group%n), ngen(group%n), &
-                  ninc(group%n), grp(group%n), names(0))
+                  ninc(group%n), grp(group%n), kinds(group%n), names(0))
         limit = merge(counts%nelem, max_number, counts%nelem > 0)
         nnode = model%mesh%nnode
         do i = 1, group%n
@@ -1008,6 +1011,18 @@ contains
                                      'given on INTERFACE cards', raw_text(card, element_fields, 6))
                     return
                 end if
+                call get_text(card, element_fields, 10, name)
+                select case (upper(name))
+                case ('', 'Q4')
+                    kinds(i) = elem_quad4
+                case ('Q4S')
+                    kinds(i) = elem_quad4_shear
+                case default
+                    call field_error(error, file, card, element_fields, 10, ctx, &
+                                     'an element type: Q4 (blank) or Q4S (assumed shear '// &
+                                     'strain, for slabs in bending)', name)
+                    return
+                end select
                 call get_text(card, element_fields, 9, name)
                 name = upper(name)
                 grp(i) = 0
@@ -1043,6 +1058,7 @@ contains
                     mesh%conn(:, e) = nodes(:, i) + g*ninc(i)
                     mesh%material(e) = mat(i)
                     mesh%group(e) = grp(i)
+                    mesh%kind(e) = kinds(i)
                 end do
             end do
         end associate

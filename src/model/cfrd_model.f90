@@ -11,7 +11,7 @@ module cfrd_model
     public :: stage_t, stage_fill, stage_load, stage_reset, stage_water, stage_kind_name
     public :: wet_face_t, gauge_t, dry_level
     public :: plane_strain, axisymmetric, law_elastic, law_duncan_eb, law_goodman, all_groups
-    public :: elem_quad4, elem_joint_gauss, elem_joint_lobatto, is_joint_kind
+    public :: elem_quad4, elem_quad4_shear, elem_joint_gauss, elem_joint_lobatto, is_joint_kind
     public :: interface_element_t, method_joint, method_thin, method_name
     public :: newtop_count, newtop_zero, solver_midpoint, solver_euler, solver_newton
     public :: law_name
@@ -50,6 +50,9 @@ module cfrd_model
     integer, parameter :: elem_quad4 = 1
     integer, parameter :: elem_joint_gauss = 2     !! Goodman joint, 2-point Gauss rule
     integer, parameter :: elem_joint_lobatto = 3   !! Goodman joint, 2-point Newton-Cotes rule
+    !> 4-node quad with the natural shear strain of its centre (ELEMENTS type Q4S): no
+    !> parasitic shear in bending, for the face slab
+    integer, parameter :: elem_quad4_shear = 4
 
     !> Interface methods (INTERFACE cards, field TYPE).
     integer, parameter :: method_joint = 1   !! zero-thickness Goodman joint elements
