@@ -6,7 +6,7 @@ module cfrd_test_models
     implicit none
     private
 
-    public :: new_model, elastic_material, add_pressure, relative_imbalance
+    public :: new_model, elastic_material, add_pressure, relative_imbalance, edge_traction
 
 contains
 
@@ -60,4 +60,20 @@ contains
         real(dp), intent(in) :: applied(2), reactions(2)
         relative_imbalance = norm2(applied + reactions)/max(norm2(applied), tiny(1.0_dp))
     end function relative_imbalance
+
+    !> Nodal forces of a uniform traction t(2) on the straight edge through `nodes` (in
+    !> order; each segment's force split half and half), added to force.
+    subroutine edge_traction(model, nodes, t, force)
+        type(model_t), intent(in) :: model
+        integer, intent(in) :: nodes(:)
+        real(dp), intent(in) :: t(2)
+        real(dp), intent(inout) :: force(:, :)
+        real(dp) :: length
+        integer :: k
+        do k = 1, size(nodes) - 1
+            length = norm2(model%mesh%x(:, nodes(k + 1)) - model%mesh%x(:, nodes(k)))
+            force(:, nodes(k)) = force(:, nodes(k)) + 0.5_dp*length*t
+            force(:, nodes(k + 1)) = force(:, nodes(k + 1)) + 0.5_dp*length*t
+        end do
+    end subroutine edge_traction
 end module cfrd_test_models

@@ -15,7 +15,7 @@ module test_analysis_interface
     use cfrd_stage_driver, only: run_analysis
     use cfrd_interface, only: interface_stations, phase_openings, open_gap, slab_stresses
     use cfrd_results, only: interface_result_t, opening_t, slab_result_t
-    use cfrd_test_models, only: new_model, elastic_material
+    use cfrd_test_models, only: new_model, elastic_material, edge_traction
     implicit none
     private
 
@@ -118,22 +118,6 @@ contains
             top = (ny + 1)*(nx + 1) + j*(nx + 1) + i + 1
         end function top
     end subroutine two_blocks
-
-    !> Nodal forces of a uniform traction t(2) on the straight edge through `nodes` (in
-    !> order, equally spaced), added to force.
-    subroutine edge_traction(model, nodes, t, force)
-        type(model_t), intent(in) :: model
-        integer, intent(in) :: nodes(:)
-        real(dp), intent(in) :: t(2)
-        real(dp), intent(inout) :: force(:, :)
-        real(dp) :: length
-        integer :: k
-        do k = 1, size(nodes) - 1
-            length = norm2(model%mesh%x(:, nodes(k + 1)) - model%mesh%x(:, nodes(k)))
-            force(:, nodes(k)) = force(:, nodes(k)) + 0.5_dp*length*t
-            force(:, nodes(k + 1)) = force(:, nodes(k + 1)) + 0.5_dp*length*t
-        end do
-    end subroutine edge_traction
 
     !> Patch test: blocks (nu = 0) under the uniform stress state sigma_nn = -p, tau = q in
     !> the frame rotated by 30 deg (top traction and the side tractions of that state, bottom

@@ -10,7 +10,7 @@ module test_contact_mortar
                           contact_surface_t, contact_pair_t, scheme_mortar, scheme_nts
     use cfrd_results, only: results_t
     use cfrd_stage_driver, only: run_analysis
-    use cfrd_test_models, only: new_model, elastic_material
+    use cfrd_test_models, only: new_model, elastic_material, edge_traction
     implicit none
     private
 
@@ -84,21 +84,6 @@ contains
         model%surfaces(2)%face = [(3, i=1, nb)]
         model%contact_pairs = [contact_pair_t(slave=1, master=2, friction=mu, scheme=scheme)]
     end subroutine stacked_blocks
-
-    !> Nodal forces of a uniform traction t(2) on the straight edge through `nodes`.
-    subroutine edge_traction(model, nodes, t, force)
-        type(model_t), intent(in) :: model
-        integer, intent(in) :: nodes(:)
-        real(dp), intent(in) :: t(2)
-        real(dp), intent(inout) :: force(:, :)
-        real(dp) :: length
-        integer :: k
-        do k = 1, size(nodes) - 1
-            length = norm2(model%mesh%x(:, nodes(k + 1)) - model%mesh%x(:, nodes(k)))
-            force(:, nodes(k)) = force(:, nodes(k)) + 0.5_dp*length*t
-            force(:, nodes(k + 1)) = force(:, nodes(k + 1)) + 0.5_dp*length*t
-        end do
-    end subroutine edge_traction
 
     !> Contact patch test: uniform pressure P on the top, the blocks of different materials
     !> free to expand sideways from the symmetry line x = 0 (ux = 0 there), the base on

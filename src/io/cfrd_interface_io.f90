@@ -215,51 +215,43 @@ contains
         character(len=*), intent(in) :: stem, suffix
         type(model_t), intent(in) :: model
         type(error_t), allocatable, intent(out) :: error
-        integer :: stat
-        character(len=256) :: msg
         if (has_interfaces(model)) then
             csv%interface_path = stem//'-interface.csv'//suffix
-            open (newunit=csv%interface_unit, file=csv%interface_path, status='replace', &
-                  action='write', iostat=stat, iomsg=msg)
-            if (stat == 0) write (csv%interface_unit, '(a)', iostat=stat, iomsg=msg) &
-                'stage,label,date,water_level_m,element,line,type,group,point,x_m,y_m,s_m,'// &
-                'sigma_n_kPa,tau_kPa,du_n_m,du_s_m'
-            if (stat /= 0) then
-                call fatal_error(error, 'cannot write '//csv%interface_path//': '//trim(msg), &
-                                 io_error)
-                call close_interface_csv(csv)
-                return
-            end if
+            call open_csv(csv%interface_path, 'stage,label,date,water_level_m,element,line,'// &
+                          'type,group,point,x_m,y_m,s_m,sigma_n_kPa,tau_kPa,du_n_m,du_s_m', &
+                          csv%interface_unit, error)
         end if
-        if (has_contact(model)) then
+        if (has_contact(model) .and. .not. allocated(error)) then
             csv%contact_path = stem//'-contact.csv'//suffix
-            open (newunit=csv%contact_unit, file=csv%contact_path, status='replace', &
-                  action='write', iostat=stat, iomsg=msg)
-            if (stat == 0) write (csv%contact_unit, '(a)', iostat=stat, iomsg=msg) &
-                'stage,label,date,water_level_m,pair,node,group,x_m,y_m,s_m,status,gap_m,'// &
-                'slip_m,sigma_n_kPa,tau_kPa'
-            if (stat /= 0) then
-                call fatal_error(error, 'cannot write '//csv%contact_path//': '//trim(msg), &
-                                 io_error)
-                call close_interface_csv(csv)
-                return
-            end if
+            call open_csv(csv%contact_path, 'stage,label,date,water_level_m,pair,node,group,'// &
+                          'x_m,y_m,s_m,status,gap_m,slip_m,sigma_n_kPa,tau_kPa', &
+                          csv%contact_unit, error)
         end if
-        if (has_slab(model)) then
+        if (has_slab(model) .and. .not. allocated(error)) then
             csv%slab_path = stem//'-slab.csv'//suffix
-            open (newunit=csv%slab_unit, file=csv%slab_path, status='replace', &
-                  action='write', iostat=stat, iomsg=msg)
-            if (stat == 0) write (csv%slab_unit, '(a)', iostat=stat, iomsg=msg) &
-                'stage,label,date,water_level_m,section,s_m,x_m,y_m,thickness_m,N_kN_per_m,'// &
-                'V_kN_per_m,M_kNm_per_m,sigma_water_side_kPa,sigma_cushion_side_kPa'
-            if (stat /= 0) then
-                call fatal_error(error, 'cannot write '//csv%slab_path//': '//trim(msg), &
-                                 io_error)
-                call close_interface_csv(csv)
-                return
-            end if
+            call open_csv(csv%slab_path, 'stage,label,date,water_level_m,section,s_m,x_m,'// &
+                          'y_m,thickness_m,N_kN_per_m,V_kN_per_m,M_kNm_per_m,'// &
+                          'sigma_water_side_kPa,sigma_cushion_side_kPa', csv%slab_unit, error)
         end if
+        if (allocated(error)) call close_interface_csv(csv)
     end subroutine open_interface_csv
+
+    !> Open `path` for writing and write its header line (unit 0 on failure).
+    subroutine open_csv(path, header, unit, error)
+        character(len=*), intent(in) :: path, header
+        integer, intent(out) :: unit
+        type(error_t), allocatable, intent(out) :: error
+        integer :: stat
+        character(len=256) :: msg
+        open (newunit=unit, file=path, status='replace', action='write', iostat=stat, &
+              iomsg=msg)
+        if (stat == 0) write (unit, '(a)', iostat=stat, iomsg=msg) header
+        if (stat /= 0) then
+            call fatal_error(error, 'cannot write '//path//': '//trim(msg), io_error)
+            close (unit, iostat=stat)
+            unit = 0
+        end if
+    end subroutine open_csv
 
     !> The rows of stage `s`: its active interface stations and slab sections.
     subroutine append_interface_csv(csv, model, s, st, error)
@@ -338,35 +330,26 @@ contains
     subroutine close_interface_csv(csv, error)
         type(interface_csv_t), intent(inout) :: csv
         type(error_t), allocatable, intent(out), optional :: error
+        type(error_t), allocatable :: first
+        call close_csv(csv%interface_unit, csv%interface_path, first)
+        call close_csv(csv%contact_unit, csv%contact_path, first)
+        call close_csv(csv%slab_unit, csv%slab_path, first)
+        if (present(error) .and. allocated(first)) call move_alloc(first, error)
+    end subroutine close_interface_csv
+
+    !> Close `unit` if open (and set it to 0); the first failure is kept in `error`.
+    subroutine close_csv(unit, path, error)
+        integer, intent(inout) :: unit
+        character(len=:), allocatable, intent(in) :: path
+        type(error_t), allocatable, intent(inout) :: error
         integer :: stat
         character(len=256) :: msg
-        if (csv%interface_unit /= 0) then
-            close (csv%interface_unit, iostat=stat, iomsg=msg)
-            csv%interface_unit = 0
-            if (stat /= 0 .and. present(error)) then
-                call fatal_error(error, 'cannot write '//csv%interface_path//': '//trim(msg), &
-                                 io_error)
-            end if
-        end if
-        if (csv%contact_unit /= 0) then
-            close (csv%contact_unit, iostat=stat, iomsg=msg)
-            csv%contact_unit = 0
-            if (stat /= 0 .and. present(error)) then
-                if (.not. allocated(error)) call fatal_error(error, 'cannot write '// &
-                                                             csv%contact_path//': '// &
-                                                             trim(msg), io_error)
-            end if
-        end if
-        if (csv%slab_unit /= 0) then
-            close (csv%slab_unit, iostat=stat, iomsg=msg)
-            csv%slab_unit = 0
-            if (stat /= 0 .and. present(error)) then
-                if (.not. allocated(error)) call fatal_error(error, 'cannot write '// &
-                                                             csv%slab_path//': '//trim(msg), &
-                                                             io_error)
-            end if
-        end if
-    end subroutine close_interface_csv
+        if (unit == 0) return
+        close (unit, iostat=stat, iomsg=msg)
+        unit = 0
+        if (stat /= 0 .and. .not. allocated(error)) &
+            call fatal_error(error, 'cannot write '//path//': '//trim(msg), io_error)
+    end subroutine close_csv
 
     !> DECK-openings.csv at `path` (decks with interfaces or contact): width, depth, length,
     !> top point and extreme normal stresses per slab phase and stage (line: the interface
