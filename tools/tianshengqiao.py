@@ -43,7 +43,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from embankment import fmt_int, fmt_real, fmt_alpha  # noqa: E402  (fixed-width fields)
+from embankment import fmt_int, fmt_real, fmt_alpha, free_real, FieldOverflow  # noqa: E402
 
 GEOMETRY = Path(__file__).resolve().parent.parent / "inputs" / "tianshengqiao-i.toml"
 GRAVITY_G = 9.81            # m/s2: density (kg/m3) * g / 1000 = unit weight (kN/m3)
@@ -616,7 +616,11 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
     add("NODES")
     add("*  N1   N2  INC        X1        Y1")
     for n, (x, yv) in enumerate(num.xy, 1):
-        add(fmt_int(n) + " " * 10 + fmt_real(x) + fmt_real(yv))
+        try:
+            add(fmt_int(n) + " " * 10 + fmt_real(x) + fmt_real(yv))
+        except FieldOverflow:
+            # a coordinate that F10 cannot hold to 1e-7 (fine meshes): a free-format card
+            add(f"&{n},,,{free_real(x)},{free_real(yv)}")
     add("ELEMENTS")
     add("*  NE    I    J    K    L  MAT NGEN NINC GROUP")
     for e, (c, q) in enumerate(zip(num.conn, num.quads), 1):
