@@ -39,10 +39,11 @@ contains
     end subroutine record_contact
 
     !> The opening of each slab phase of each pair: the placed slave segments of one element
-    !> group (the group that places the slab phase; nothing before it is placed). Width = the
-    !> largest gap of its separated nodes; depth = the length along the surface from the
-    !> phase's top end (its highest node) down to the first node that is not separated (the
-    !> gap is zero there and positive all the way above it).
+    !> group (the group that places the slab phase; nothing before it is placed). The
+    !> opening runs from the phase's top end (its highest node) down to the first node that
+    !> is not separated (the gap is zero there and positive all the way above it): depth =
+    !> its length along the surface, width = its largest gap (paper Table 5). max_gap: the
+    !> largest gap anywhere in the phase (also below a closed top).
     subroutine contact_openings(model, contact, active, result, openings)
         type(model_t), intent(in) :: model
         type(contact_t), intent(in) :: contact
@@ -73,16 +74,17 @@ contains
                 opening%length = contact%s(top) - contact%s(order(1))
                 if (any(contact%placed(order))) then
                     ! (a closed node's gap is zero up to round-off: not an opening)
-                    opening%width = 0.0_dp
+                    opening%max_gap = 0.0_dp
                     do i = 1, size(order)
-                        if (separated(order(i))) opening%width = max(opening%width, &
-                                                                     result%gap(order(i)))
+                        if (separated(order(i))) opening%max_gap = max(opening%max_gap, &
+                                                                       result%gap(order(i)))
                     end do
                     opening%max_compression = min(0.0_dp, minval(result%sigma_n(order)))
+                    ! The opening from the top: down to the first node in contact.
                     do i = size(order), 1, -1
                         c = order(i)
-                        if (separated(c)) cycle
-                        exit
+                        if (.not. separated(c)) exit
+                        opening%width = max(opening%width, result%gap(c))
                     end do
                     if (i < size(order)) then
                         opening%depth = contact%s(top) - contact%s(order(max(i, 1)))

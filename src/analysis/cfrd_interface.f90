@@ -148,6 +148,7 @@ contains
                     s_top = element_start_s(first(n))
                 end if
                 op%width = max(0.0_dp, maxval(res%du_n(:, first(n):last(n))))
+                op%max_gap = op%width
                 op%max_compression = min(0.0_dp, minval(res%sigma_n(:, first(n):last(n))))
                 op%max_tension = max(0.0_dp, maxval(res%sigma_n(:, first(n):last(n))))
                 ! Walk the stations from the top end down.

@@ -358,9 +358,11 @@ contains
                 call dataset_int1(id, 'opening_pair', stage%openings%line, st)
                 call dataset_int1(id, 'opening_group', stage%openings%group, st)
                 call dataset_real1(id, 'opening_width', stage%openings%width, 'm', &
-                                   'largest gap of the slab phase', st)
+                                   'largest gap of the opening from the phase top', st)
                 call dataset_real1(id, 'opening_depth', stage%openings%depth, 'm', &
                                    'length from the phase top down to where the gap closes', st)
+                call dataset_real1(id, 'opening_max_gap', stage%openings%max_gap, 'm', &
+                                   'largest gap anywhere in the slab phase', st)
             end if
             call close_group(id, st)
         end if

@@ -368,7 +368,7 @@ contains
             return
         end if
         write (unit, '(a)') 'stage,label,date,water_level_m,line,group,width_m,depth_m,'// &
-            'length_m,top_x_m,top_y_m,min_sigma_n_kPa,max_sigma_n_kPa'
+            'length_m,top_x_m,top_y_m,min_sigma_n_kPa,max_sigma_n_kPa,max_gap_m'
         do s = 1, size(summaries)
             associate (st => summaries(s))
                 do k = 1, size(st%openings)
@@ -378,7 +378,8 @@ contains
                             group_text(model, op%group)//','//csv_real(op%width)//','// &
                             csv_real(op%depth)//','//csv_real(op%length)//','// &
                             csv_real(op%top(1))//','//csv_real(op%top(2))//','// &
-                            csv_real(op%max_compression)//','//csv_real(op%max_tension)
+                            csv_real(op%max_compression)//','//csv_real(op%max_tension)// &
+                            ','//csv_real(op%max_gap)
                     end associate
                     if (stat /= 0) exit
                 end do

@@ -59,6 +59,9 @@ module cfrd_results
         real(dp) :: top(2) = 0.0_dp          !! m, top end of the phase's interface
         real(dp) :: max_compression = 0.0_dp !! kPa, most compressive sigma_n (<= 0)
         real(dp) :: max_tension = 0.0_dp     !! kPa, largest tensile sigma_n (>= 0)
+        !> m, contact: the largest gap anywhere in the phase (an opening below a closed top
+        !> counts here, not in width and depth); interfaces: the width
+        real(dp) :: max_gap = 0.0_dp
     end type opening_t
 
     !> Stresses of the slab elements (SLAB groups) along the slab axis: at the Gauss points
