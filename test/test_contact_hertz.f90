@@ -11,7 +11,7 @@ module test_contact_hertz
     use cfrd_error, only: error_t
     use cfrd_testing, only: unittest_t, new_unittest, check, fail
     use cfrd_model, only: model_t, stage_t, stage_load, pressure_load_t, contact_surface_t, &
-                          contact_pair_t, scheme_mortar
+                          contact_pair_t, scheme_mortar, search_linear, search_rpim
     use cfrd_results, only: results_t
     use cfrd_stage_driver, only: run_analysis
     use cfrd_test_models, only: new_model, elastic_material
@@ -28,7 +28,8 @@ contains
 
     subroutine collect_contact_hertz(tests)
         type(unittest_t), allocatable, intent(out) :: tests(:)
-        tests = [new_unittest('hertz_cylinder_on_block', test_hertz)]
+        tests = [new_unittest('hertz_cylinder_on_block', test_hertz), &
+                 new_unittest('hertz_curved_master_rpim', test_hertz_rpim)]
     end subroutine collect_contact_hertz
 
     !> Positions from 0 to `total`: steps h up to `fine`, then each step `ratio` times the
@@ -52,10 +53,13 @@ contains
     end function graded
 
     !> The half model with element size h at the contact: peak pressure and half-width.
-    subroutine hertz_run(h, p0, a, error)
+    subroutine hertz_run(h, p0, a, error, cylinder_master, search)
         real(dp), intent(in) :: h
         real(dp), intent(out) :: p0, a
         type(error_t), allocatable, intent(out) :: error
+        !> the curved cylinder as the master surface (the block's top the slave)
+        logical, intent(in), optional :: cylinder_master
+        integer, intent(in), optional :: search
         real(dp), allocatable :: arc(:), depth(:), xs(:), ys(:), x(:, :), r(:), theta(:)
         integer, allocatable :: conn(:, :), mat(:)
         type(model_t) :: model
@@ -138,6 +142,11 @@ contains
         model%surfaces(2)%face = [(3, i=1, nx)]
         model%contact_pairs = [contact_pair_t(slave=1, master=2, friction=0.0_dp, &
                                               scheme=scheme_mortar)]
+        if (present(cylinder_master)) then
+            if (cylinder_master) model%contact_pairs(1) = contact_pair_t(slave=2, master=1, &
+                friction=0.0_dp, scheme=scheme_mortar)
+        end if
+        if (present(search)) model%contact_pairs(1)%search = search
         model%stages(1) = stage_t(kind=stage_load, load_set=1, increments=1, label='PRESS')
         call run_analysis(model, results, error)
         if (allocated(error)) return
@@ -205,4 +214,30 @@ contains
         if (allocated(error)) return
         call check(error, maxval(err_p) < 0.03_dp, 'p0 within 3 % on every mesh')
     end subroutine test_hertz
+
+    !> The curved surface as the master, coarse mesh (h = 1 mm): its piecewise-linear faces
+    !> are chords of the circle (0.1 mm apart over 12 mm: 1e-5 m of geometry error, against
+    !> elastic approaches of the same order), the RPIM curve (paper Step 3) follows the circle.
+    !> Both within 3 % of Hertz's a and p0; the errors are reported.
+    subroutine test_hertz_rpim(error)
+        type(error_t), allocatable, intent(out) :: error
+        real(dp) :: e_star, a_exact, p0_exact, p0(2), a(2)
+        integer :: k
+        e_star = 1.0_dp/((1.0_dp - nu**2)/e_cylinder + (1.0_dp - nu**2)/e_block)
+        a_exact = sqrt(4.0_dp*load*radius/(pi*e_star))
+        p0_exact = 2.0_dp*load/(pi*a_exact)
+        do k = 1, 2
+            call hertz_run(1.0e-3_dp, p0(k), a(k), error, .true., &
+                           merge(search_linear, search_rpim, k == 1))
+            if (allocated(error)) return
+        end do
+        write (*, '(a,2f8.4,a,2f8.4)') '  cylinder as master, LINEAR / RPIM: error of a', &
+            abs(a - a_exact)/a_exact, ', of p0', abs(p0 - p0_exact)/p0_exact
+        do k = 1, 2
+            call check(error, a(k), a_exact, 'half-width a', rel=0.03_dp)
+            if (allocated(error)) return
+            call check(error, p0(k), p0_exact, 'peak pressure p0', rel=0.03_dp)
+            if (allocated(error)) return
+        end do
+    end subroutine test_hertz_rpim
 end module test_contact_hertz

@@ -7,7 +7,8 @@ module test_contact_mortar
     use cfrd_error, only: error_t
     use cfrd_testing, only: unittest_t, new_unittest, check, fail
     use cfrd_model, only: model_t, material_t, stage_t, stage_load, gravity_load_t, &
-                          contact_surface_t, contact_pair_t, scheme_mortar, scheme_nts
+                          contact_surface_t, contact_pair_t, scheme_mortar, scheme_nts, &
+                          search_linear, search_rpim
     use cfrd_results, only: results_t
     use cfrd_stage_driver, only: run_analysis
     use cfrd_test_models, only: new_model, elastic_material, edge_traction
@@ -24,6 +25,7 @@ contains
                 new_unittest('patch_mortar_3_4', test_patch_3_4), &
                 new_unittest('patch_mortar_2_5', test_patch_2_5), &
                 new_unittest('patch_mortar_4_3_slave_coarse', test_patch_4_3), &
+                new_unittest('patch_mortar_rpim_2_5', test_patch_rpim), &
                 new_unittest('patch_node_to_segment_fails', test_patch_nts), &
                 new_unittest('incline_sticks', test_incline_stick), &
                 new_unittest('incline_slides', test_incline_slide), &
@@ -36,9 +38,10 @@ contains
     !> quads over [0, w] x [hb, hb + ht]. Nodes: the bottom block row by row, then the top.
     !> Contact pair: slave = the top block's bottom faces, master = the bottom block's top.
     subroutine stacked_blocks(model, nb, mb, nt, mt, w, hb, ht, bottom_mat, top_mat, mu, &
-                              scheme)
+                              scheme, search)
         type(model_t), intent(out) :: model
         integer, intent(in) :: nb, mb, nt, mt, scheme
+        integer, intent(in), optional :: search
         real(dp), intent(in) :: w, hb, ht, mu
         type(material_t), intent(in) :: bottom_mat, top_mat
         real(dp), allocatable :: x(:, :)
@@ -83,6 +86,7 @@ contains
         model%surfaces(2)%element = [(nb*(mb - 1) + i, i=1, nb)]
         model%surfaces(2)%face = [(3, i=1, nb)]
         model%contact_pairs = [contact_pair_t(slave=1, master=2, friction=mu, scheme=scheme)]
+        if (present(search)) model%contact_pairs(1)%search = search
     end subroutine stacked_blocks
 
     !> Contact patch test: uniform pressure P on the top, the blocks of different materials
@@ -90,8 +94,9 @@ contains
     !> rollers, frictionless contact. Exact solution (closed form): sigma_yy = -P in both
     !> blocks, so every multiplier is P and the top settles
     !> P (hb (1 - nu1^2)/E1 + ht (1 - nu2^2)/E2) (plane strain, sigma_xx = 0).
-    subroutine patch(nb, nt, scheme, spread, settle_error, error)
+    subroutine patch(nb, nt, scheme, spread, settle_error, error, search)
         integer, intent(in) :: nb, nt, scheme
+        integer, intent(in), optional :: search
         real(dp), intent(out) :: spread, settle_error
         type(error_t), allocatable, intent(out) :: error
         real(dp), parameter :: p = 150.0_dp, e1 = 2.0e4_dp, nu1 = 0.3_dp, e2 = 5.0e4_dp, &
@@ -101,7 +106,7 @@ contains
         real(dp) :: settlement
         integer :: n0, i, ntop
         call stacked_blocks(model, nb, 2, nt, 2, w, hb, ht, elastic_material(e1, nu1, 0.0_dp), &
-                            elastic_material(e2, nu2, 0.0_dp), 0.0_dp, scheme)
+                            elastic_material(e2, nu2, 0.0_dp), 0.0_dp, scheme, search)
         n0 = (nb + 1)*3
         model%fixed(2, 1:nb + 1) = .true.
         where (model%mesh%x(1, :) == 0.0_dp) model%fixed(1, :) = .true.
@@ -125,11 +130,12 @@ contains
                        settlement
     end subroutine patch
 
-    subroutine mortar_patch(nb, nt, error)
+    subroutine mortar_patch(nb, nt, error, search)
         integer, intent(in) :: nb, nt
         type(error_t), allocatable, intent(out) :: error
+        integer, intent(in), optional :: search
         real(dp) :: spread, settle_error
-        call patch(nb, nt, scheme_mortar, spread, settle_error, error)
+        call patch(nb, nt, scheme_mortar, spread, settle_error, error, search)
         if (allocated(error)) return
         write (*, '(a,i0,a,i0,a,es9.2,a,es9.2)') '  mortar ', nb, ':', nt, &
             ': multiplier spread ', spread, ', settlement error ', settle_error
@@ -147,6 +153,14 @@ contains
         type(error_t), allocatable, intent(out) :: error
         call mortar_patch(2, 5, error)
     end subroutine test_patch_2_5
+
+    !> The same with the master surface interpolated by RPIM: on a straight surface the
+    !> radial point interpolation reproduces the line (linear completeness), so the patch
+    !> test still holds (1e-10).
+    subroutine test_patch_rpim(error)
+        type(error_t), allocatable, intent(out) :: error
+        call mortar_patch(2, 5, error, search_rpim)
+    end subroutine test_patch_rpim
 
     subroutine test_patch_4_3(error)
         type(error_t), allocatable, intent(out) :: error

@@ -176,6 +176,7 @@ cases += [
  ("contact-shared-node", csub("SURFACE   TOP           3    1    2    1", "SURFACE   TOP           2    4"), "{f}:17: node 5 is on both surfaces TOP and BASE: contact is between independent bodies (give each its own nodes)"),
  ("contact-friction", csub(CPAIR, CPAIR.replace(" 0.5", "-0.5")), "{f}:17:31-40: field MU of CONTACT PAIR TOP: expected a real >= 0, found '-0.5'"),
  ("contact-scheme", csub(CPAIR, CPAIR.ljust(50) + "GLUE"), "{f}:17:51-60: field SCHEME of CONTACT PAIR TOP: expected MORTAR (segment-to-segment) or NTS (node-to-segment), found 'GLUE'"),
+ ("contact-search", csub(CPAIR, CPAIR.ljust(50) + "MORTAR    SPLINE"), "{f}:17:61-70: field SEARCH of CONTACT PAIR TOP: expected LINEAR (piecewise-linear master surface) or RPIM (radial point interpolation), found 'SPLINE'"),
  ("contact-cast", csub(CPAIR, CPAIR.ljust(74) + "2"), "{f}:17:71-75: field CAST of CONTACT PAIR TOP: expected 0 or 1 (1: cast in place, the gap at placement counts as closed), found '2'"),
  ("element-type", csub("    3    7    8   12   11    1    2    1 TOP", "    3    7    8   12   11    1    2    1 TOP       Q8"), "{f}:10:51-60: field TYPE of ELEMENTS 3: expected an element type: Q4 (blank) or Q4S (assumed shear strain, for slabs in bending), found 'Q8'"),
  ("contact-unused-surface", csub(CPAIR, "SURFACE   SIDE          1    4\n" + CPAIR), "{f}:17: surface SIDE is in no CONTACT PAIR"),

@@ -12,8 +12,10 @@
 !> Its two multiplier equations are numbered after the displacement equations.
 module cfrd_contact
     use cfrd_kinds, only: dp
-    use cfrd_model, only: model_t, scheme_nts
-    use cfrd_mortar, only: face_normal, mortar_segment_pair, project_node
+    use cfrd_model, only: model_t, scheme_nts, search_rpim
+    use cfrd_mortar, only: face_normal, mortar_segment_pair, mortar_cell_points, project_node, &
+                           dual_shape
+    use cfrd_rpim, only: rpim_shape, rpim_support
     use cfrd_bucket_search, only: bucket_grid_t, build_grid, query_grid
     implicit none
     private
@@ -235,6 +237,12 @@ contains
         logical, allocatable :: seg_on(:), mseg_on(:), was_placed(:)
         type(bucket_grid_t) :: grid
         real(dp) :: n_seg(2), radius, cell, d(2, 2), m(2, 2), covered, box(4), lmax
+        ! RPIM pairs: the active master segments chained, chain_s the arc length of each
+        ! chain node (current coordinates), seg_pos the chain position of a segment's start
+        integer, allocatable :: chain_node(:), chain_start(:), seg_chain(:), seg_pos(:)
+        real(dp), allocatable :: chain_s(:)
+        !> (nc) RPIM: the weighted distance from the straight master segments to the curve
+        real(dp), allocatable :: g_curve(:)
         integer :: k, c, j, l, kk, km, nt, nfound, stamp, ip
         associate (mesh => model%mesh)
             x = mesh%x + contact%u
@@ -285,6 +293,8 @@ contains
             nt = 0
             stamp = 0
             contact%w = 0.0_dp
+            allocate (g_curve(contact%nc), source=0.0_dp)
+            call chain_master_segments()
             call segment_to_segment()
             call node_to_segment()
             old_ptr = contact%cpl_ptr
@@ -300,6 +310,7 @@ contains
                     contact%g(c) = contact%g(c) - contact%cpl_a(kk)* &
                                    dot_product(contact%normal(:, c), x(:, contact%cpl_node(kk)))
                 end do
+                contact%g(c) = contact%g(c) + g_curve(c)
                 contact%supported(c) = contact%placed(c) .and. &
                                        contact%w(c) > 1.0e-6_dp*contact%wref(c)
                 if (.not. contact%supported(c)) then
@@ -366,6 +377,9 @@ contains
                             if (min(abs(dot_product(xc - xa, n_seg)), &
                                     abs(dot_product(xd - xa, n_seg))) > radius) cycle
                             call mortar_segment_pair(xa, xb, xc, xd, d, m, covered)
+                            if (covered > 0.0_dp .and. &
+                                model%contact_pairs(ip)%search == search_rpim) &
+                                call rpim_gap(k, km, xa, xb)
                         end associate
                         if (covered <= 0.0_dp) cycle
                         do j = 1, 2
@@ -381,6 +395,113 @@ contains
                 end associate
             end do
         end subroutine segment_to_segment
+
+        !> The active master segments of RPIM pairs in chains (each segment's end is the next
+        !> one's start: the faces of a surface run with the body on their left), with the arc
+        !> length of every chain node.
+        subroutine chain_master_segments()
+            integer, allocatable :: next_seg(:), starts_at(:)
+            logical, allocatable :: has_previous(:)
+            integer :: ks, kn, n
+            allocate (seg_chain(size(contact%mseg, 2)), seg_pos(size(contact%mseg, 2)), &
+                      source=0)
+            allocate (chain_node(0), chain_start(1), chain_s(0))
+            chain_start(1) = 1
+            if (.not. any(model%contact_pairs%search == search_rpim)) return
+            allocate (starts_at(size(x, 2)), source=0)
+            allocate (has_previous(size(contact%mseg, 2)), source=.false.)
+            allocate (next_seg(size(contact%mseg, 2)), source=0)
+            do ks = 1, size(contact%mseg, 2)
+                if (mseg_on(ks)) starts_at(contact%mseg(1, ks)) = ks
+            end do
+            do ks = 1, size(contact%mseg, 2)
+                if (.not. mseg_on(ks)) cycle
+                kn = starts_at(contact%mseg(2, ks))
+                if (kn == 0) cycle
+                if (contact%mseg_pair(kn) /= contact%mseg_pair(ks)) cycle
+                next_seg(ks) = kn
+                has_previous(kn) = .true.
+            end do
+            do ks = 1, size(contact%mseg, 2)
+                if (.not. mseg_on(ks) .or. has_previous(ks) .or. seg_chain(ks) /= 0) cycle
+                if (model%contact_pairs(contact%mseg_pair(ks))%search /= search_rpim) cycle
+                n = size(chain_start)
+                chain_node = [chain_node, contact%mseg(1, ks)]
+                chain_s = [chain_s, 0.0_dp]
+                kn = ks
+                do while (kn /= 0)
+                    seg_chain(kn) = n
+                    seg_pos(kn) = size(chain_node)
+                    chain_node = [chain_node, contact%mseg(2, kn)]
+                    chain_s = [chain_s, chain_s(size(chain_s)) + &
+                               norm2(x(:, contact%mseg(2, kn)) - x(:, contact%mseg(1, kn)))]
+                    kn = next_seg(kn)
+                end do
+                chain_start = [chain_start, size(chain_node) + 1]
+            end do
+        end subroutine chain_master_segments
+
+        !> RPIM (paper Step 3): the master surface's geometry is the smooth curve
+        !> x(s) = sum phi_i(s) x_i through its nodes; the forces still pass through the
+        !> element faces' shape functions (mortar_segment_pair), so that the master receives
+        !> tractions consistent with its elements. Here: the weighted distance from the
+        !> straight master segment km to the curve, across slave segment k,
+        !> g_curve_j += int Phi_j n_j . (x(s*) - x_lin(eta)) ds, s* the curve point straight
+        !> across each integration point (Newton on (x(s) - x_p) . t = 0).
+        subroutine rpim_gap(k, km, xa, xb)
+            integer, intent(in) :: k, km
+            real(dp), intent(in) :: xa(2), xb(2)
+            real(dp) :: xi(3), w(3), eta(3), t(2), xp(2), sv, f, f1, ds, phi_s(2), h, &
+                        x_lin(2), x_curve(2)
+            integer :: ig, ch, lo, hi, it, jj
+            ch = seg_chain(km)
+            if (ch == 0) return
+            lo = chain_start(ch)
+            hi = chain_start(ch + 1) - 1
+            associate (xc => x(:, contact%mseg(1, km)), xd => x(:, contact%mseg(2, km)))
+                call mortar_cell_points(xa, xb, xc, xd, xi, w, eta, covered)
+                if (covered <= 0.0_dp) return
+                t = (xb - xa)/norm2(xb - xa)
+                h = chain_s(seg_pos(km) + 1) - chain_s(seg_pos(km))
+                do ig = 1, 3
+                    xp = 0.5_dp*(1.0_dp - xi(ig))*xa + 0.5_dp*(1.0_dp + xi(ig))*xb
+                    x_lin = xc + 0.5_dp*(eta(ig) + 1.0_dp)*(xd - xc)
+                    sv = chain_s(seg_pos(km)) + 0.5_dp*(eta(ig) + 1.0_dp)*h
+                    do it = 1, 20
+                        f = dot_product(rpim_curve(sv, lo, hi) - xp, t)
+                        f1 = (dot_product(rpim_curve(sv + 1.0e-6_dp*h, lo, hi) - xp, t) - f)/ &
+                             (1.0e-6_dp*h)
+                        if (abs(f1) <= tiny(1.0_dp)) exit
+                        ds = -f/f1
+                        sv = min(max(sv + ds, chain_s(lo)), chain_s(hi))
+                        if (abs(ds) <= 1.0e-12_dp*h) exit
+                    end do
+                    x_curve = rpim_curve(sv, lo, hi)
+                    phi_s = dual_shape(xi(ig))
+                    do jj = 1, 2
+                        g_curve(contact%seg(jj, k)) = g_curve(contact%seg(jj, k)) + &
+                            phi_s(jj)*w(ig)*dot_product(contact%normal(:, contact%seg(jj, k)), &
+                                                        x_curve - x_lin)
+                    end do
+                end do
+            end associate
+        end subroutine rpim_gap
+
+        !> The RPIM curve of the chain nodes lo..hi at arc length s.
+        function rpim_curve(s, lo, hi) result(xc)
+            real(dp), intent(in) :: s
+            integer, intent(in) :: lo, hi
+            real(dp) :: xc(2)
+            real(dp), allocatable :: ph(:)
+            integer :: f0, ns, q
+            call rpim_support(chain_s(lo:hi), s, f0, ns)
+            allocate (ph(ns))
+            call rpim_shape(chain_s(lo + f0 - 1:lo + f0 + ns - 2), s, ph)
+            xc = 0.0_dp
+            do q = 1, ns
+                xc = xc + ph(q)*x(:, chain_node(lo + f0 + q - 2))
+            end do
+        end function rpim_curve
 
         !> Node-to-segment: each slave node against the nearest master point straight across
         !> it along its normal, weighted by its tributary length.

@@ -6,7 +6,8 @@ module cfrd_mortar
     implicit none
     private
 
-    public :: face_normal, mortar_segment_pair, project_node, dual_shape, cross2
+    public :: face_normal, mortar_segment_pair, mortar_cell_points, project_node, dual_shape
+    public :: cross2
 
     !> 3-point Gauss rule on [-1, 1]: exact for the quadratic integrands of straight segments.
     real(dp), parameter :: gauss_xi(3) = [-0.77459666924148337704_dp, 0.0_dp, &
@@ -38,19 +39,20 @@ contains
         phi = [0.5_dp*(1.0_dp - 3.0_dp*xi), 0.5_dp*(1.0_dp + 3.0_dp*xi)]
     end function dual_shape
 
-    !> Mortar integrals of the slave segment xa -> xb against the master segment xc -> xd
-    !> over the part of the slave segment that the master one covers, each point of the
-    !> slave segment paired with the master point straight across it (along the slave
-    !> segment's normal): d(j, l) = int Phi_j N_l ds (slave nodes j, l = a, b) and
-    !> m(j, k) = int Phi_j N_k ds (master nodes k = c, d). `covered` is the length covered.
-    pure subroutine mortar_segment_pair(xa, xb, xc, xd, d, m, covered)
+    !> The integration points of the part of the slave segment xa -> xb that the master
+    !> segment xc -> xd covers (between the projections of its ends along the slave segment's
+    !> normal): slave coordinates xi(3), weights w(3) (ds included), and the coordinate eta(3)
+    !> of the master point straight across each, on the straight master segment. `covered`
+    !> is the length covered (0: none, the other outputs undefined).
+    pure subroutine mortar_cell_points(xa, xb, xc, xd, xi, w, eta, covered)
         real(dp), intent(in) :: xa(2), xb(2), xc(2), xd(2)
-        real(dp), intent(out) :: d(2, 2), m(2, 2), covered
-        real(dp) :: t(2), length, xi_c, xi_d, lo, hi, xi, x(2), eta, denom, w, phi(2)
+        real(dp), intent(out) :: xi(3), w(3), eta(3), covered
+        real(dp) :: t(2), length, xi_c, xi_d, lo, hi, x(2), denom
         integer :: ig
-        d = 0.0_dp
-        m = 0.0_dp
         covered = 0.0_dp
+        xi = 0.0_dp
+        w = 0.0_dp
+        eta = 0.0_dp
         length = norm2(xb - xa)
         t = (xb - xa)/length
         denom = dot_product(xd - xc, t)
@@ -63,16 +65,34 @@ contains
         if (hi - lo <= 1.0e-12_dp) return
         covered = 0.5_dp*(hi - lo)*length
         do ig = 1, size(gauss_xi)
-            xi = 0.5_dp*(lo + hi) + 0.5_dp*(hi - lo)*gauss_xi(ig)
-            x = 0.5_dp*(1.0_dp - xi)*xa + 0.5_dp*(1.0_dp + xi)*xb
+            xi(ig) = 0.5_dp*(lo + hi) + 0.5_dp*(hi - lo)*gauss_xi(ig)
+            x = 0.5_dp*(1.0_dp - xi(ig))*xa + 0.5_dp*(1.0_dp + xi(ig))*xb
             ! master coordinate of the point across: (x_m(eta) - x) . t = 0
-            eta = 2.0_dp*dot_product(x - xc, t)/denom - 1.0_dp
-            w = gauss_w(ig)*0.5_dp*(hi - lo)*0.5_dp*length
-            phi = dual_shape(xi)
-            d(:, 1) = d(:, 1) + phi*0.5_dp*(1.0_dp - xi)*w
-            d(:, 2) = d(:, 2) + phi*0.5_dp*(1.0_dp + xi)*w
-            m(:, 1) = m(:, 1) + phi*0.5_dp*(1.0_dp - eta)*w
-            m(:, 2) = m(:, 2) + phi*0.5_dp*(1.0_dp + eta)*w
+            eta(ig) = 2.0_dp*dot_product(x - xc, t)/denom - 1.0_dp
+            w(ig) = gauss_w(ig)*0.5_dp*(hi - lo)*0.5_dp*length
+        end do
+    end subroutine mortar_cell_points
+
+    !> Mortar integrals of the slave segment xa -> xb against the master segment xc -> xd
+    !> over the part of the slave segment that the master one covers, each point of the
+    !> slave segment paired with the master point straight across it (along the slave
+    !> segment's normal): d(j, l) = int Phi_j N_l ds (slave nodes j, l = a, b) and
+    !> m(j, k) = int Phi_j N_k ds (master nodes k = c, d). `covered` is the length covered.
+    pure subroutine mortar_segment_pair(xa, xb, xc, xd, d, m, covered)
+        real(dp), intent(in) :: xa(2), xb(2), xc(2), xd(2)
+        real(dp), intent(out) :: d(2, 2), m(2, 2), covered
+        real(dp) :: xi(3), w(3), eta(3), phi(2)
+        integer :: ig
+        d = 0.0_dp
+        m = 0.0_dp
+        call mortar_cell_points(xa, xb, xc, xd, xi, w, eta, covered)
+        if (covered <= 0.0_dp) return
+        do ig = 1, 3
+            phi = dual_shape(xi(ig))
+            d(:, 1) = d(:, 1) + phi*0.5_dp*(1.0_dp - xi(ig))*w(ig)
+            d(:, 2) = d(:, 2) + phi*0.5_dp*(1.0_dp + xi(ig))*w(ig)
+            m(:, 1) = m(:, 1) + phi*0.5_dp*(1.0_dp - eta(ig))*w(ig)
+            m(:, 2) = m(:, 2) + phi*0.5_dp*(1.0_dp + eta(ig))*w(ig)
         end do
     end subroutine mortar_segment_pair
 

@@ -14,7 +14,7 @@ module cfrd_deck
                           elem_joint_lobatto, is_joint_kind, &
                           interface_element_t, method_joint, method_thin, all_groups, &
                           contact_surface_t, contact_pair_t, scheme_mortar, scheme_nts, &
-                          search_linear
+                          search_linear, search_rpim
     use cfrd_model_check, only: element_shape, first_unused_node, free_rigid_mode, &
                                 shape_ok, shape_degenerate, unplaced_load, layer_thickness
     use cfrd_cards, only: card_t, field_t, deck_lines_t, int_field, real_field, text_field, &
@@ -1771,12 +1771,20 @@ contains
                 select case (upper(word))
                 case ('', 'LINEAR')
                     pair%search = search_linear
+                case ('RPIM')
+                    pair%search = search_rpim
                 case default
                     call field_error(error, file, card, pair_fields, 7, ctx, &
-                                     'LINEAR (piecewise-linear surfaces; RPIM is not '// &
-                                     'available yet)', word)
+                                     'LINEAR (piecewise-linear master surface) or RPIM '// &
+                                     '(radial point interpolation)', word)
                     return
                 end select
+                if (pair%search == search_rpim .and. pair%scheme == scheme_nts) then
+                    call field_error(error, file, card, pair_fields, 7, ctx, &
+                                     'LINEAR with SCHEME NTS (RPIM serves the mortar '// &
+                                     'scheme)', word)
+                    return
+                end if
                 call get_int(file, card, pair_fields, 8, ctx, 0, cast, error)
                 if (allocated(error)) return
                 if (cast /= 0 .and. cast /= 1) then
