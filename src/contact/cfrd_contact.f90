@@ -23,14 +23,13 @@ module cfrd_contact
     public :: contact_t, new_contact, contact_geometry, contact_element_dofs
     public :: contact_element_matrix, contact_rhs, contact_unpack, contact_update_sets
     public :: contact_forces, contact_accept, contact_open, contact_stick, contact_slip
-    public :: contact_status_name, contact_iteration_limit
+    public :: contact_iteration_limit
 
     integer, parameter :: contact_open = 0    !! not in contact (or not placed / unsupported)
     integer, parameter :: contact_stick = 1   !! closed, no slip
     integer, parameter :: contact_slip = 2    !! closed, sliding at the Coulomb limit
     !> Active-set iterations per solve before giving up (the stage driver then cuts back).
     integer, parameter :: contact_iteration_limit = 40
-    logical, parameter :: hold_while_normal_changes = .false.
 
     !> The contact state and the geometry of the current increment.
     type :: contact_t
@@ -66,19 +65,6 @@ module cfrd_contact
     end type contact_t
 
 contains
-
-    pure function contact_status_name(status) result(name)
-        integer, intent(in) :: status
-        character(len=5) :: name
-        select case (status)
-        case (contact_stick)
-            name = 'stick'
-        case (contact_slip)
-            name = 'slip'
-        case default
-            name = 'open'
-        end select
-    end function contact_status_name
 
     !> Slave nodes, slave and master segments of every pair of the model; the state at rest.
     subroutine new_contact(model, contact)
@@ -711,11 +697,12 @@ contains
     end subroutine contact_unpack
 
     !> The primal-dual active-set step after a solve with the increment du (2, nnode)
-    !> (Hueber & Wohlmuth 2005), normal first: closed where p - c_n gap > 0. While that set
-    !> changes, every closed node is held in stick, so that an iterate with wrong pressures
-    !> cannot set a whole body sliding; once it holds, stick where |q - c_t slip| <= mu p, else
-    !> slip in the direction of that trial traction. `changed` when any node's status or slip
-    !> direction changed.
+    !> (Hueber & Wohlmuth 2005), normal and tangential together: closed where
+    !> p - c_n gap > 0; a closed node sticks where |q - c_t slip| <= mu p, else slips in the
+    !> direction of that trial traction (a slip that turns round goes to stick first).
+    !> `changed` when any node's status or slip direction changed. (Holding every closed
+    !> node in stick while the normal set changes was tried: it cycles when a prescribed
+    !> motion drags a body.)
     pure subroutine contact_update_sets(model, contact, du, scale, changed, one_at_a_time)
         type(model_t), intent(in) :: model
         type(contact_t), intent(inout) :: contact
@@ -725,7 +712,7 @@ contains
         logical, intent(in) :: one_at_a_time
         real(dp) :: v(2), gap, slip, cn, trial, bound, mu, ptol, violation(contact%nc)
         integer :: c, status(contact%nc), sign_new(contact%nc), worst
-        logical :: closed(contact%nc), normal_changed
+        logical :: closed(contact%nc)
         ptol = 1.0e-10_dp*max(maxval(abs(contact%p)), tiny(1.0_dp))
         closed = .false.
         violation = 0.0_dp
@@ -738,15 +725,10 @@ contains
             closed(c) = contact%p(c) - cn*(gap - 1.0e-10_dp*contact%wref(c)) > 0.0_dp
             violation(c) = abs(contact%p(c) - cn*gap)
         end do
-        normal_changed = any(closed .neqv. contact%status /= contact_open)
         status = contact_open
         sign_new = 0
         do c = 1, contact%nc
             if (.not. closed(c)) cycle
-            if (normal_changed .and. hold_while_normal_changes) then
-                status(c) = contact_stick
-                cycle
-            end if
             v = weighted_motion(contact, c, du)
             slip = dot_product(contact%tangent(:, c), v)/contact%w(c)
             cn = scale/max(contact%wref(c), tiny(1.0_dp))

@@ -8,7 +8,8 @@ module cfrd_listing
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, io_error
     use cfrd_version, only: cfrd_version_string
-    use cfrd_model, only: model_t, law_name, dry_level, law_goodman, is_joint_kind
+    use cfrd_model, only: model_t, law_name, dry_level, law_goodman, is_joint_kind, &
+                          scheme_name, search_name
     use cfrd_results, only: stage_result_t
     use cfrd_stage_summary, only: stage_summary_t
     use cfrd_columns, only: csv_real, date_of, level_of
@@ -117,6 +118,23 @@ contains
                     trim(merge(' cut off        ', ' carried with kn', mat%tension_cutoff))
             end associate
         end do
+        if (allocated(model%contact_pairs)) then
+            if (size(model%contact_pairs) > 0) then
+                write (unit, '(/,a,/,a)') ' CONTACT PAIRS', '  PAIR SLAVE      MASTER     '// &
+                    '  FACES         MU    TOL (m) SCHEME SEARCH CAST'
+                do m = 1, size(model%contact_pairs)
+                    associate (pair => model%contact_pairs(m))
+                        write (unit, '(i6,1x,a10,1x,a10,i4,a,i4,f11.4,es11.3,1x,a6,1x,a6,1x,a)') &
+                            m, model%surfaces(pair%slave)%name, &
+                            model%surfaces(pair%master)%name, &
+                            size(model%surfaces(pair%slave)%element), ' /', &
+                            size(model%surfaces(pair%master)%element), pair%friction, &
+                            pair%tolerance, scheme_name(pair%scheme), search_name(pair%search), &
+                            trim(merge('yes', 'no ', pair%cast))
+                    end associate
+                end do
+            end if
+        end if
         if (allocated(model%warnings)) then
             if (size(model%warnings) > 0) then
                 write (unit, '(/,a)') ' WARNINGS'
