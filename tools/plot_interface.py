@@ -186,7 +186,7 @@ def opening_plot(h5, name, out):
     """Fig. 11: the opening (cm) along the interface at opening_stages and at the stage of
     each phase's largest opening: relative normal displacement du_n of the interface
     stations, or the gap of the placed contact slave nodes."""
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig, ax = plt.subplots(figsize=(9.5, 4))
     names = sorted(h5["stages"])
     notes = {}
     for i, phase in largest_opening_stages(h5):
@@ -205,7 +205,7 @@ def opening_plot(h5, name, out):
     else:
         ax.set_ylabel("relative normal displacement (cm, opening +)")
     ax.set_title(f"{name}: slab-cushion opening (cf. paper Fig. 11)")
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1), borderaxespad=0)
     ax.grid(alpha=0.3)
     fig.tight_layout()
     fig.savefig(out, dpi=120)
