@@ -12,16 +12,20 @@ data (a line says which were skipped and why):
   fig07-ux.png          horizontal displacement contours at the last stage
   fig09-10-gauges.png   settlement and horizontal displacement at the gauges against time
                         (Figs. 9 and 10; decks with GAUGES and dated stages)
-  fig11-opening.png     opening along the interface at the end of each slab period and at
-                        the last stage (Fig. 11; decks with INTERFACE)
+  fig11-opening.png     opening along the interface at the end of each slab period, at
+                        the last stage and at each phase's largest opening (Fig. 11; decks
+                        with INTERFACE: du_n of the stations, or CONTACT: gap of the slave
+                        nodes)
   fig12-openings.png    width and depth of each slab phase's opening, stage by stage, with
                         the observed maxima (cf. Figs. 11-12 and Table 5)
-  fig13-normal-stress.png  normal stress along the interface before the phase II slab and
-                        at the end of construction (Fig. 13)
+  fig13-normal-stress.png  normal stress along the interface before the phase II slab, at
+                        the end of construction and at the largest opening (Fig. 13;
+                        contact: the slave nodes' traction, separated nodes hollow)
   fig14-slab.png        slab stresses at the Gauss points at the end of construction
                         (Fig. 14; decks with SLAB)
   table5-openings.png   largest opening width and depth of phases I and II against the
-                        paper's Table 5 (decks with INTERFACE)
+                        paper's Table 5, each run beside the paper's row of its method
+                        (decks with INTERFACE or CONTACT)
 
 --reference names a TOML file of observed and published values (default: the first of
 inputs/*-observed.toml whose title_contains is in the results' title, e.g.
@@ -70,26 +74,7 @@ def find_reference(title, choice):
     return None
 
 
-def phase_openings(h5):
-    """Per slab phase (line, group), in order: the phase's name and its opening width and
-    depth (m) at every stage that has it, as (stage number, width, depth) arrays."""
-    groups = [text(g).strip() for g in h5["mesh/group_names"][...]] \
-        if "mesh/group_names" in h5 else []
-    phases = {}
-    for number, s in enumerate(sorted(h5["stages"]), start=1):
-        g = h5["stages"][s]
-        if "interface" not in g or "opening_width" not in g["interface"]:
-            continue
-        r = g["interface"]
-        for line, group, width, depth in zip(r["opening_line"][...], r["opening_group"][...],
-                                             r["opening_width"][...], r["opening_depth"][...]):
-            phases.setdefault((int(line), int(group)), []).append((number, width, depth))
-    out = []
-    for (line, group), rows in sorted(phases.items()):
-        name = groups[group - 1] if 0 < group <= len(groups) else f"line {line}"
-        rows = np.array(rows)
-        out.append((name, rows[:, 0].astype(int), rows[:, 1], rows[:, 2]))
-    return out
+phase_openings = plot_interface.phase_openings
 
 
 def openings_history_plot(h5, name, out, reference):
@@ -131,24 +116,42 @@ def table5_row(reference, prefix, phase):
 
 def table5_plot(files, names, out, reference):
     """Grouped bars: width (m) and depth (m) of phases I and II, the paper's rows and ours
-    (the largest over the stages), each bar labelled with its value."""
-    rows = []
-    for row in (reference or {}).get("table5", []):
-        rows.append((row["row"], [row["phase_1"]["width"], row["phase_2"]["width"]],
-                     [row["phase_1"]["depth"], row["phase_2"]["depth"]]))
+    (the largest over the stages), each bar labelled with its value. Each run (hatched)
+    stands beside the paper's row of its method, in that row's colour."""
+    paper = [(row["row"], row.get("method"),
+              [row["phase_1"]["width"], row["phase_2"]["width"]],
+              [row["phase_1"]["depth"], row["phase_2"]["depth"]])
+             for row in (reference or {}).get("table5", [])]
+    ours = []
     for f, name in zip(files, names):
         phases = phase_openings(f)[:2]
         if phases:
-            rows.append((f"cfrd {name}", [float(p[2].max()) for p in phases],
+            ours.append((f"cfrd {name}", plot_interface.method(f),
+                         [float(p[2].max()) for p in phases],
                          [float(p[3].max()) for p in phases]))
+    # (label, widths, depths, colour, hatch): the paper's rows in order, each followed by
+    # the runs of its method; runs of no listed method at the end.
+    rows, placed = [], set()
+    for j, (row, how, widths, depths) in enumerate(paper):
+        rows.append((row, widths, depths, f"C{j}", None))
+        for k, (label, m, w, d) in enumerate(ours):
+            if how is not None and m == how:
+                runs = sum(1 for r in rows if r[3] == f"C{j}") - 1
+                hatch = ["//", "xx", "\\\\", ".."][runs % 4]
+                rows.append((label, w, d, f"C{j}", hatch))
+                placed.add(k)
+    for k, (label, m, w, d) in enumerate(ours):
+        if k not in placed:
+            rows.append((label, w, d, f"C{len(paper) + k}", "//"))
     nphase = max(len(r[1]) for r in rows)
-    fig, axes = plt.subplots(1, 2, figsize=(12, 4.6))
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4.8))
     width = 0.8 / len(rows)
-    for j, (row, widths, depths) in enumerate(rows):
+    for j, (row, widths, depths, colour, hatch) in enumerate(rows):
         x = np.arange(len(widths)) + (j - (len(rows) - 1) / 2) * width
-        hatch = "//" if row.startswith("cfrd") else None
         for ax, values, fmt in ((axes[0], widths, "{:.3f}"), (axes[1], depths, "{:.1f}")):
-            bars = ax.bar(x, values, width, label=row, color=f"C{j}", hatch=hatch,
+            face = colour if hatch is None else \
+                0.5 + 0.5 * np.array(matplotlib.colors.to_rgb(colour))
+            bars = ax.bar(x, values, width, label=row, color=face, hatch=hatch,
                           edgecolor="k", lw=0.4)
             ax.bar_label(bars, [fmt.format(v) for v in values], fontsize=6, rotation=90,
                          padding=2)
@@ -159,9 +162,12 @@ def table5_plot(files, names, out, reference):
         ax.margins(y=0.18)
         ax.grid(axis="y", alpha=0.3)
     axes[1].legend(fontsize=7, loc="upper left")
-    fig.suptitle("slab openings against the paper's Table 5 (hatched: this run; width = "
-                 "relative normal displacement, depth = tensile zone from the phase's top)",
-                 fontsize=9)
+    head = ("slab openings against the paper's Table 5 (hatched: this run, beside the "
+            "paper's row of its method)") if paper else "largest slab openings (hatched: this run)"
+    fig.suptitle(head + "\nwidth: largest separation (contact: gap; joints, "
+                 "thin layers: relative normal displacement); depth: opened length from the "
+                 "phase's top\n(contact: down to where the gap closes; joints, thin layers: "
+                 "the tensile zone)", fontsize=9)
     fig.tight_layout()
     fig.savefig(out, dpi=120)
     return fig
@@ -249,7 +255,7 @@ def main(argv=None):
     else:
         skipped.append("fig09-10-gauges (no GAUGES or no dated stage)")
 
-    has_interface = "mesh/interface_elements" in first
+    has_interface = plot_interface.has_interface(first) or plot_interface.has_contact(first)
     if has_interface:
         save("fig11-opening", plot_interface.opening_plot(first, names[0],
                                                           out / "fig11-opening.png"))
@@ -260,14 +266,16 @@ def main(argv=None):
         else:
             skipped.append("fig12-openings (no slab phase with an interface)")
     else:
-        skipped += ["fig11-opening (no INTERFACE)", "fig12-openings (no INTERFACE)"]
-    with_interface = [(f, n) for f, n in zip(files, names) if "mesh/interface_elements" in f]
+        skipped += ["fig11-opening (no INTERFACE or CONTACT)",
+                    "fig12-openings (no INTERFACE or CONTACT)"]
+    with_interface = [(f, n) for f, n in zip(files, names)
+                      if plot_interface.has_interface(f) or plot_interface.has_contact(f)]
     if with_interface:
         save("fig13-normal-stress", plot_interface.normal_stress_plot(
             [f for f, _ in with_interface], [n for _, n in with_interface],
             out / "fig13-normal-stress.png"))
     else:
-        skipped.append("fig13-normal-stress (no INTERFACE)")
+        skipped.append("fig13-normal-stress (no INTERFACE or CONTACT)")
     with_slab = [(f, n) for f, n in zip(files, names)
                  if "slab" in f["stages"][sorted(f["stages"])[-1]]]
     if with_slab:
@@ -280,7 +288,7 @@ def main(argv=None):
         save("table5-openings", table5_plot(files, names, out / "table5-openings.png",
                                             reference))
     else:
-        skipped.append("table5-openings (no slab phase with an interface)")
+        skipped.append("table5-openings (no slab phase with an interface or contact)")
 
     print(f"{out}: {', '.join(written)}")
     if skipped:

@@ -108,7 +108,8 @@ tool_checks "tianshengqiao" python3 tools/check_tianshengqiao.py --run "$cfrd" \
     --workdir "$work/tianshengqiao"
 # The XDMF file read back through an independent reader (meshio) against the HDF5 datasets.
 tool_checks "xdmf" python3 tools/check_xdmf.py --run "$cfrd" --workdir "$work/xdmf"
-# The figures plot what the HDF5 file holds (tools/figures.py --data against h5py reads).
+# The figures plot what the HDF5 files hold (tools/figures.py --data against h5py reads):
+# the joint deck alone, then the contact deck with the joint deck (both methods in one set).
 tool_checks "figures" python3 tools/check_figures.py --run "$cfrd" --workdir "$work/figures"
 # The zig-zag measure of tools/interface_zigzag.py (docs/tianshengqiao.md section 7.4) on
 # closed forms.
