@@ -98,6 +98,9 @@ tool_checks "peer --elements 1000" python3 tools/ccx_peer.py --cfrd "$cfrd" --el
 # Layer-by-layer construction against a superposition of CalculiX runs, both conventions.
 tool_checks "peer thin layer" python3 tools/ccx_thin.py --cfrd "$cfrd" --workdir "$work/ccx-thin"
 tool_checks "ccx staged" python3 tools/ccx_staged.py --cfrd "$cfrd" --workdir "$work/ccx-staged"
+# Frictional contact between non-matching meshes: contact resultants and opened lengths against
+# CalculiX's face-to-face penalty contact (issue 7).
+tool_checks "peer contact" python3 tools/ccx_contact.py --cfrd "$cfrd" --workdir "$work/ccx-contact"
 # The E-B law: scipy's integration of it, checked on Kondner's hyperbola, then against
 # cfrd's plane-strain compression of two Table 3 materials.
 tool_checks "eb reference" python3 tools/eb_reference.py --selftest
