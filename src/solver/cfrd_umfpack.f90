@@ -21,6 +21,7 @@ module cfrd_umfpack
     ! Sizes and indices of umfpack.h (0-based in C, hence the +1 in Fortran).
     integer, parameter :: umfpack_control = 20, umfpack_info = 90
     integer, parameter :: i_prl = 0, i_strategy = 5, i_ordering = 10, i_rcond = 67
+    integer, parameter :: i_nrow = 1, i_lnz = 43, i_unz = 44
     integer(c_int), parameter :: ordering_amd = 1
     integer(c_int), parameter :: umfpack_a = 0
     integer(c_int), parameter :: strategy_symmetric = 3
@@ -39,6 +40,7 @@ module cfrd_umfpack
         procedure :: factorise
         procedure :: solve
         procedure :: rcond
+        procedure :: factor_nonzeros
         procedure :: release
         final :: finalise
     end type umfpack_t
@@ -216,6 +218,16 @@ contains
         class(umfpack_t), intent(in) :: self
         rcond = self%info(i_rcond + 1)
     end function rcond
+
+    !> Nonzeros of L + U of the last numeric factorisation (UMFPACK's fill; the unit
+    !> diagonal of L not counted), 0 before the first.
+    integer function factor_nonzeros(self)
+        class(umfpack_t), intent(in) :: self
+        factor_nonzeros = 0
+        if (.not. c_associated(self%numeric)) return
+        factor_nonzeros = nint(self%info(i_lnz + 1) + self%info(i_unz + 1) - &
+                               self%info(i_nrow + 1))
+    end function factor_nonzeros
 
     !> Free both factorisations (safe to call at any time).
     subroutine release(self)
