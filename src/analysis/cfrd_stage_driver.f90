@@ -345,6 +345,9 @@ contains
             call build_pattern(system%pattern, system%dofmap%neq + 2*contact%nc, dof_ptr, &
                                dofs, error)
             system%constrains = constraining_rows(contact, system%dofmap%eq)
+            ! The multipliers are scaled to K's size (multiplier_scale): UMFPACK's row
+            ! scaling would only push its pivots off the diagonal.
+            call system%solver%set_row_scaling(.false.)
         else
             call build_pattern(system%pattern, system%dofmap%neq, system%dofmap%dof_ptr, &
                                system%dofmap%dofs, error)
