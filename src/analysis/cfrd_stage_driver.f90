@@ -208,7 +208,8 @@ contains
                     call new_system(model, library, state%active, system, error, &
                                     state%contact, state%has_contact)
                     if (allocated(error)) return
-                    result%stats%t_pattern = wall_seconds() - t1
+                    result%stats%t_pattern = result%stats%t_pattern + (wall_seconds() - t1)
+                    result%stats%patterns = result%stats%patterns + 1
                 end if
                 result%stats%neq = system%pattern%n
                 result%stats%nnz = system%pattern%nnz
@@ -344,6 +345,9 @@ contains
             call build_pattern(system%pattern, system%dofmap%neq + 2*contact%nc, dof_ptr, &
                                dofs, error)
             system%constrains = constraining_rows(contact, system%dofmap%eq)
+            ! The multipliers are scaled to K's size (multiplier_scale): UMFPACK's row
+            ! scaling would only push its pivots off the diagonal.
+            call system%solver%set_row_scaling(.false.)
         else
             call build_pattern(system%pattern, system%dofmap%neq, system%dofmap%dof_ptr, &
                                system%dofmap%dofs, error)
@@ -461,8 +465,10 @@ contains
         character(len=*), intent(in) :: context
         type(error_t), allocatable, intent(out) :: error
         real(dp), allocatable :: ke(:, :)
+        real(dp) :: t0
         integer :: c, m, attempt
         do attempt = 1, 2
+            t0 = wall_seconds()
             system%values = system%k_values
             do c = 1, contact%nc
                 m = 2*(contact%cpl_ptr(c + 1) - contact%cpl_ptr(c)) + 2
@@ -474,6 +480,7 @@ contains
                 call assemble_element(system%pattern, system%values, model%mesh%nelem + c, ke)
                 deallocate (ke)
             end do
+            result%stats%t_assembly = result%stats%t_assembly + (wall_seconds() - t0)
             call factorise_values(system, result, context, error)
             if (.not. allocated(error)) return
             ! Sliding everywhere, a body held by friction alone is a mechanism of the
@@ -481,7 +488,7 @@ contains
             if (system%viscous > 0.0_dp .or. .not. any(contact%status == contact_slip) .or. &
                 index(error%message, 'singular') == 0) return
             system%viscous = slip_viscosity
-            result%regularised = result%regularised + 1
+            result%stats%regularised = result%stats%regularised + 1
             deallocate (error)
         end do
     end subroutine factorise_contact
@@ -504,6 +511,7 @@ contains
             end if
             system%analysed = .true.
             result%stats%t_symbolic = result%stats%t_symbolic + (wall_seconds() - t1)
+            result%stats%analyses = result%stats%analyses + 1
             t1 = wall_seconds()
         end if
         call system%solver%factorise(system%pattern, system%values, error)
@@ -513,6 +521,7 @@ contains
         end if
         result%stats%t_numeric = result%stats%t_numeric + (wall_seconds() - t1)
         result%stats%rcond = system%solver%rcond()
+        result%stats%lu_nnz = system%solver%factor_nonzeros()
         result%factorisations = result%factorisations + 1
     end subroutine factorise_values
 
@@ -547,7 +556,7 @@ contains
         character(len=*), intent(in) :: context
         type(error_t), allocatable, intent(out) :: error
         real(dp), allocatable :: du(:, :), stress_end(:, :, :), stress_mid(:, :, :)
-        real(dp) :: residual, load_norm, recent
+        real(dp) :: residual, load_norm, recent, t0
         integer :: iteration
         type(contact_t), allocatable :: contact
         logical :: changed
@@ -556,10 +565,15 @@ contains
         system%viscous = 0.0_dp
         if (state%has_contact) then
             contact = state%contact
+            t0 = wall_seconds()
             call contact_geometry(model, state%active, contact, changed)
+            result%stats%t_contact = result%stats%t_contact + (wall_seconds() - t0)
             if (changed) then
+                t0 = wall_seconds()
                 call new_system(model, library, state%active, system, error, contact, .true.)
                 if (allocated(error)) return
+                result%stats%t_pattern = result%stats%t_pattern + (wall_seconds() - t0)
+                result%stats%patterns = result%stats%patterns + 1
                 result%stats%neq = system%pattern%n
                 result%stats%nnz = system%pattern%nnz
             end if
@@ -737,6 +751,7 @@ contains
             end do
             if (.not. present(contact)) exit
             ! The active set: done when the solve left it as it was.
+            t0 = wall_seconds()
             call contact_unpack(contact, x(neq + 1:), system%contact_scale)
             if (present(du_base)) then
                 call contact_update_sets(model, contact, du_base + du, system%contact_scale, &
@@ -745,7 +760,8 @@ contains
                 call contact_update_sets(model, contact, du, system%contact_scale, changed, &
                                          cycling > 0)
             end if
-            result%contact_iterations = result%contact_iterations + 1
+            result%stats%t_contact = result%stats%t_contact + (wall_seconds() - t0)
+            result%stats%contact_iterations = result%stats%contact_iterations + 1
             if (.not. changed) exit
             seen(:, iteration) = 3*contact%status + contact%slip_sign
             do earlier = max(1, cycling), iteration - 1

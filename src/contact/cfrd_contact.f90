@@ -629,13 +629,19 @@ contains
         real(dp), intent(out) :: ke(:, :)
         integer :: k, m, kp, kq
         logical :: regularised
-        real(dp) :: a, diag
+        real(dp) :: a, diag, length
         logical :: normal_row, tangential_row
         m = contact%cpl_ptr(c + 1) - contact%cpl_ptr(c)
         kp = 2*m + 1
         kq = 2*m + 2
         ke = 0.0_dp
-        diag = scale*max(contact%wref(c), tiny(1.0_dp))
+        ! The diagonal of an open row (p or q = 0) is K's size: a node not placed yet has no
+        ! length of its own, and a row of tiny size would read as singular to a solver that
+        ! does not scale rows (cfrd_umfpack: set_row_scaling).
+        length = contact%wref(c)
+        if (.not. length > 0.0_dp) length = maxval(contact%wref)
+        if (.not. length > 0.0_dp) length = 1.0_dp
+        diag = scale*length
         normal_row = contact%status(c) /= contact_open .and. constrains(1)
         tangential_row = contact%status(c) == contact_stick .and. constrains(2)
         regularised = contact%status(c) == contact_slip .and. constrains(2) .and. viscous > 0

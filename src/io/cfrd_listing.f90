@@ -49,6 +49,7 @@ contains
         call write_opening_history(unit, model, summaries)
         ! The full tables of the last stage; every stage's state is in the HDF5 file.
         call write_stage(unit, model, last, size(summaries))
+        call write_solver(unit, model, summaries)
         write (unit, '(/,a,f10.3,a)', iostat=stat, iomsg=msg) ' TOTAL ANALYSIS TIME', &
             wall_time, ' s'
         if (stat /= 0) then
@@ -281,18 +282,46 @@ contains
         write (unit, '(a,2es15.6)') ' APPLIED', stage%applied_load
         write (unit, '(a,es10.2)') ' RELATIVE IMBALANCE |APPLIED + REACTIONS| / |APPLIED| =', &
             imbalance
-        associate (st => stage%stats)
-            write (unit, '(/,a)') ' SOLVER'
+    end subroutine write_stage
+
+    !> The solver's figures: the last stage's and the sums over all stages.
+    subroutine write_solver(unit, model, summaries)
+        integer, intent(in) :: unit
+        type(model_t), intent(in) :: model
+        type(stage_summary_t), intent(in) :: summaries(:)
+        character(len=*), parameter :: counts = '(a,t40,i12,i14)', times = '(a,t40,f12.4,f14.4,a)'
+        logical :: contact
+        contact = .false.
+        if (allocated(model%contact_pairs)) contact = size(model%contact_pairs) > 0
+        associate (st => summaries(size(summaries))%stats, all => summaries%stats)
+            write (unit, '(/,a,t40,a12,a14)') ' SOLVER', 'last stage', 'all stages'
             write (unit, '(a,t40,i12)') '   equations', st%neq
             write (unit, '(a,t40,i12)') '   matrix nonzeros', st%nnz
+            write (unit, '(a,t40,i12)') '   factor nonzeros (L+U)', st%lu_nnz
             write (unit, '(a,t40,es12.3)') '   reciprocal condition estimate', st%rcond
-            write (unit, '(a,t40,f12.4,a)') '   pattern', st%t_pattern, ' s'
-            write (unit, '(a,t40,f12.4,a)') '   assembly', st%t_assembly, ' s'
-            write (unit, '(a,t40,f12.4,a)') '   symbolic factorisation', st%t_symbolic, ' s'
-            write (unit, '(a,t40,f12.4,a)') '   numeric factorisation', st%t_numeric, ' s'
-            write (unit, '(a,t40,f12.4,a)') '   solve', st%t_solve, ' s'
+            write (unit, counts) '   increments', summaries(size(summaries))%increments, &
+                sum(summaries%increments)
+            write (unit, counts) '   sparse patterns built', st%patterns, sum(all%patterns)
+            write (unit, counts) '   symbolic factorisations', st%analyses, sum(all%analyses)
+            write (unit, counts) '   numeric factorisations', &
+                summaries(size(summaries))%factorisations, sum(summaries%factorisations)
+            if (contact) then
+                write (unit, counts) '   contact iterations (solves)', st%contact_iterations, &
+                    sum(all%contact_iterations)
+                write (unit, counts) '   regularised factorisations', st%regularised, &
+                    sum(all%regularised)
+            end if
+            write (unit, times) '   pattern', st%t_pattern, sum(all%t_pattern), ' s'
+            write (unit, times) '   assembly', st%t_assembly, sum(all%t_assembly), ' s'
+            write (unit, times) '   symbolic factorisation', st%t_symbolic, &
+                sum(all%t_symbolic), ' s'
+            write (unit, times) '   numeric factorisation', st%t_numeric, sum(all%t_numeric), &
+                ' s'
+            write (unit, times) '   solve', st%t_solve, sum(all%t_solve), ' s'
+            if (contact) write (unit, times) '   contact search and active set', &
+                st%t_contact, sum(all%t_contact), ' s'
         end associate
-    end subroutine write_stage
+    end subroutine write_solver
 
     !> A short result table for the terminal: extreme displacements (since placement) and
     !> principal stresses and where they occur, the reaction balance, the gauge histories

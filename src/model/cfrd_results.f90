@@ -17,7 +17,19 @@ module cfrd_results
         real(dp) :: t_symbolic = 0.0_dp    !! s, UMFPACK symbolic factorisation
         real(dp) :: t_numeric = 0.0_dp     !! s, UMFPACK numeric factorisation
         real(dp) :: t_solve = 0.0_dp       !! s, triangular solves
+        !> s, contact search and geometry (contact_geometry: bucket search, couplings, gaps)
+        !> and the active-set updates after each solve
+        real(dp) :: t_contact = 0.0_dp
         real(dp) :: rcond = 0.0_dp         !! UMFPACK's reciprocal condition estimate
+        integer :: patterns = 0            !! sparse patterns built (FILL; contact: couplings)
+        integer :: analyses = 0            !! UMFPACK symbolic factorisations (orderings)
+        !> nonzeros of L + U of the last numeric factorisation (UMFPACK's fill)
+        integer :: lu_nnz = 0
+        !> contact: solves of the active-set iteration (each solve of an increment counts,
+        !> the last one finds the set unchanged)
+        integer :: contact_iterations = 0
+        !> contact: factorisations whose slip rows were regularised (a body sliding everywhere)
+        integer :: regularised = 0
     end type solver_stats_t
 
     !> Along the interface elements (model%interfaces, same order), two stations each (the
@@ -93,9 +105,6 @@ module cfrd_results
         integer :: factorisations = 0              !! numeric factorisations in the stage
         integer :: iterations = 0                  !! Newton iterations in the stage
         integer :: cutbacks = 0                    !! increments halved after no convergence
-        integer :: contact_iterations = 0          !! contact active-set solves in the stage
-        !> factorisations whose slip rows were regularised (a body sliding everywhere)
-        integer :: regularised = 0
         real(dp) :: max_residual = 0.0_dp          !! largest |residual| / |load| after an increment
         real(dp) :: wall_time = 0.0_dp             !! s
         logical, allocatable :: active(:)          !! (nelem) element active at the stage's end
