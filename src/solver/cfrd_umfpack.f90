@@ -74,6 +74,9 @@ module cfrd_umfpack
         integer :: pivots(max_update_rank) = 0
         integer, allocatable :: d_slot(:), d_col(:)
         real(dp), allocatable :: d_value(:)
+        !> The load and solution of the last solve of A0 itself: a load that differs from it
+        !> only in rows(1:rank) has A0^-1 b = x_base + w (b - b_base)(rows), no solve needed
+        real(dp), allocatable :: b_base(:), x_base(:)
     contains
         procedure :: set_row_scaling
         procedure :: analyse
@@ -258,6 +261,7 @@ contains
         else
             self%base = values(1:pattern%nnz)
         end if
+        if (allocated(self%b_base)) deallocate (self%b_base, self%x_base)
     end subroutine factorise
 
     !> Make the solves those of `values`, a matrix of the factorised one's pattern that differs
@@ -373,17 +377,33 @@ contains
                                                    numerical_error)
     end subroutine solve_factors
 
-    !> x = A1^-1 b = (I - w S^-1 D) A0^-1 b.
-    subroutine solve_updated(self, pattern, b, x, error)
+    !> x = A1^-1 b = (I - w S^-1 D) A0^-1 b. With `load`, b may be the last load of A0
+    !> changed in the updated rows (an active-set iteration changes the right-hand sides of
+    !> the contact rows it changes, and only those): A0^-1 b is then had without a solve.
+    subroutine solve_updated(self, pattern, b, x, error, load)
         class(umfpack_t), intent(in) :: self
         type(sparse_pattern_t), intent(in) :: pattern
         real(dp), intent(in) :: b(:)
         real(dp), intent(out) :: x(:)
         type(error_t), allocatable, intent(out) :: error
+        logical, intent(in), optional :: load
         real(dp) :: t(max_update_rank, 1)
+        real(dp), allocatable :: change(:)
         integer :: p, status
-        call self%solve_factors(pattern, b, x, error)
-        if (allocated(error)) return
+        logical :: known
+        known = .false.
+        if (present(load) .and. allocated(self%b_base)) then
+            change = b(1:pattern%n) - self%b_base
+            t(1:self%rank, 1) = change(self%rows(1:self%rank))
+            change(self%rows(1:self%rank)) = 0.0_dp
+            known = all(change == 0.0_dp)
+        end if
+        if (known) then
+            x(1:pattern%n) = self%x_base + matmul(self%w(:, 1:self%rank), t(1:self%rank, 1))
+        else
+            call self%solve_factors(pattern, b, x, error)
+            if (allocated(error)) return
+        end if
         t = 0.0_dp
         do p = 1, size(self%d_slot)
             t(self%d_slot(p), 1) = t(self%d_slot(p), 1) + self%d_value(p)*x(self%d_col(p))
@@ -448,6 +468,9 @@ contains
         if (status /= umfpack_ok) then
             call fatal_error(error, 'solve failed: '//umfpack_status_text(int(status)), &
                              numerical_error)
+        else if (allocated(self%base)) then
+            self%b_base = b(1:pattern%n)
+            self%x_base = x(1:pattern%n)
         end if
     end subroutine solve
 
@@ -468,7 +491,7 @@ contains
         integer :: step, n
         character(len=40) :: text
         n = pattern%n
-        call self%solve_updated(pattern, b(1:n), x(1:n), error)
+        call self%solve_updated(pattern, b(1:n), x(1:n), error, load=.true.)
         if (allocated(error)) return
         allocate (r(n), dx(n))
         best = x(1:n)
