@@ -5,7 +5,7 @@ module test_solver_sparse
     use cfrd_error, only: error_t, numerical_error
     use cfrd_testing, only: unittest_t, new_unittest, check, fail
     use cfrd_sparse, only: sparse_pattern_t, build_pattern, assemble_element, csc_matvec
-    use cfrd_umfpack, only: umfpack_t
+    use cfrd_umfpack, only: umfpack_t, max_update_rank
     implicit none
     private
 
@@ -34,7 +34,10 @@ contains
                 new_unittest('nearly_singular_matrix_is_an_error', test_nearly_singular), &
                 new_unittest('rcond_of_diagonal', test_rcond), &
                 new_unittest('rcond_of_2x2_by_hand', test_rcond_2x2), &
-                new_unittest('quad_grid_matches_dense', test_quad_grid) &
+                new_unittest('quad_grid_matches_dense', test_quad_grid), &
+                new_unittest('row_update_matches_dgesv', test_row_update), &
+                new_unittest('row_update_declined_beyond_rank', test_row_update_rank), &
+                new_unittest('row_update_declined_when_singular', test_row_update_singular) &
                 ]
     end subroutine collect_solver_sparse
 
@@ -447,6 +450,168 @@ contains
         call check(error, maxval(abs(x - reference(:, 1))), 0.0_dp, 'x against dgesv', &
                    abs=1e-12_dp*maxval(abs(reference)))
     end subroutine test_quad_grid
+
+    !> A saddle-point system like contact's: a chain of nspring springs (stiffness k, the
+    !> first end fixed) and ncon multipliers, multiplier c tying dofs c and c + 10 (its
+    !> column carries the forces +-k on them); its row is the constraint k (u_c - u_c+10) = 0
+    !> when `closed(c)`, else k lambda_c = 0 (open).
+    subroutine saddle_system(closed, pattern, values, error)
+        logical, intent(in) :: closed(:)
+        type(sparse_pattern_t), intent(inout) :: pattern
+        real(dp), allocatable, intent(inout) :: values(:)
+        type(error_t), allocatable, intent(out) :: error
+        integer, parameter :: nspring = 60
+        real(dp), parameter :: k = 250.0_dp
+        integer, allocatable :: dof_ptr(:), dofs(:)
+        real(dp) :: ke(3, 3)
+        integer :: e, c, ncon
+        ncon = size(closed)
+        if (pattern%n == 0) then
+            allocate (dof_ptr(nspring + ncon + 1), dofs(2*nspring + 3*ncon))
+            do e = 1, nspring
+                dof_ptr(e) = 2*e - 1
+                dofs(2*e - 1:2*e) = [e - 1, e]
+            end do
+            do c = 1, ncon
+                dof_ptr(nspring + c) = 2*nspring + 3*c - 2
+                dofs(2*nspring + 3*c - 2:2*nspring + 3*c) = [c, c + 10, nspring + c]
+            end do
+            dof_ptr(nspring + ncon + 1) = size(dofs) + 1
+            call build_pattern(pattern, nspring + ncon, dof_ptr, dofs, error)
+            if (allocated(error)) return
+        end if
+        if (allocated(values)) deallocate (values)
+        allocate (values(pattern%nnz), source=0.0_dp)
+        do e = 1, nspring
+            call assemble_element(pattern, values, e, &
+                                  k*reshape([1.0_dp, -1.0_dp, -1.0_dp, 1.0_dp], [2, 2]))
+        end do
+        do c = 1, ncon
+            ke = 0.0_dp
+            ke(1:2, 3) = [k, -k]
+            if (closed(c)) then
+                ke(3, 1:2) = [k, -k]
+            else
+                ke(3, 3) = k
+            end if
+            call assemble_element(pattern, values, nspring + c, ke)
+        end do
+    end subroutine saddle_system
+
+    !> x of the updated solver against dgesv of the dense matrix, for the load b(i) = cos(i).
+    subroutine check_against_dgesv(solver, pattern, values, what, error)
+        type(umfpack_t), intent(inout) :: solver
+        type(sparse_pattern_t), intent(in) :: pattern
+        real(dp), intent(in) :: values(:)
+        character(len=*), intent(in) :: what
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), allocatable :: dense(:, :), b(:), x(:), reference(:, :)
+        integer, allocatable :: ipiv(:)
+        integer :: i, info
+        allocate (b(pattern%n), x(pattern%n), reference(pattern%n, 1), ipiv(pattern%n))
+        do i = 1, pattern%n
+            b(i) = cos(real(i, dp))
+        end do
+        call solver%solve(pattern, values, b, x, error)
+        if (allocated(error)) return
+        dense = to_dense(pattern, values)
+        reference(:, 1) = b
+        call dgesv(pattern%n, 1, dense, pattern%n, ipiv, reference, pattern%n, info)
+        call check(error, info, 0, 'dgesv info')
+        if (allocated(error)) return
+        call check(error, maxval(abs(x - reference(:, 1))), 0.0_dp, what, &
+                   abs=1e-12_dp*maxval(abs(reference)))
+    end subroutine check_against_dgesv
+
+    !> Factorise with every multiplier open, then close some, open one again, close more
+    !> (the active-set iteration's changes): each updated solve equals dgesv of the changed
+    !> matrix to 1e-12, without a new factorisation.
+    subroutine test_row_update(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(sparse_pattern_t) :: pattern
+        type(umfpack_t) :: solver
+        real(dp), allocatable :: values(:)
+        logical :: closed(40), done
+        closed = .false.
+        call saddle_system(closed, pattern, values, error)
+        if (allocated(error)) return
+        call solver%factorise(pattern, values, error)
+        if (allocated(error)) return
+        call check_against_dgesv(solver, pattern, values, 'x of the factorised matrix', error)
+        if (allocated(error)) return
+        closed([3, 17]) = .true.
+        call update_and_check('x after closing 2 (rank 2)')
+        if (allocated(error)) return
+        closed([3, 25, 26, 40]) = [.false., .true., .true., .true.]
+        call update_and_check('x after opening 1, closing 3 (rank 5)')
+        if (allocated(error)) return
+        closed(5:14) = .true.
+        call update_and_check('x after closing 10 more (rank 15)')
+    contains
+        subroutine update_and_check(what)
+            character(len=*), intent(in) :: what
+            call saddle_system(closed, pattern, values, error)
+            if (allocated(error)) return
+            call solver%update_rows(pattern, values, done, error)
+            if (allocated(error)) return
+            call check(error, done, 'update done: '//what)
+            if (allocated(error)) return
+            call check(error, solver%is_updated(), 'solver updated: '//what)
+            if (allocated(error)) return
+            call check_against_dgesv(solver, pattern, values, what, error)
+        end subroutine update_and_check
+    end subroutine test_row_update
+
+    !> More rows changed than max_update_rank: the update is declined (the caller
+    !> factorises), and the solves are still those of the factorised matrix.
+    subroutine test_row_update_rank(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(sparse_pattern_t) :: pattern
+        type(umfpack_t) :: solver
+        real(dp), allocatable :: values(:), original(:)
+        logical :: closed(40), done
+        closed = .false.
+        call saddle_system(closed, pattern, values, error)
+        if (allocated(error)) return
+        call solver%factorise(pattern, values, error)
+        if (allocated(error)) return
+        original = values
+        closed(1:max_update_rank + 1) = .true.
+        call saddle_system(closed, pattern, values, error)
+        if (allocated(error)) return
+        call solver%update_rows(pattern, values, done, error)
+        if (allocated(error)) return
+        call check(error, .not. done, 'update of max_update_rank + 1 rows declined')
+        if (allocated(error)) return
+        call check_against_dgesv(solver, pattern, original, 'x of the factorised matrix', error)
+    end subroutine test_row_update_rank
+
+    !> A changed row of zeros (an open row with no diagonal) makes the matrix singular: the
+    !> capacitance matrix is singular too and the update declined, so that the factorisation
+    !> reports the singularity as for any other matrix.
+    subroutine test_row_update_singular(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(sparse_pattern_t) :: pattern
+        type(umfpack_t) :: solver
+        real(dp), allocatable :: values(:)
+        logical :: closed(40), done
+        integer :: j, p
+        closed = .false.
+        call saddle_system(closed, pattern, values, error)
+        if (allocated(error)) return
+        call solver%factorise(pattern, values, error)
+        if (allocated(error)) return
+        do j = 1, pattern%n      ! row 61, multiplier 1, all zero
+            do p = pattern%colptr(j) + 1, pattern%colptr(j + 1)
+                if (pattern%rowind(p) == 60) values(p) = 0.0_dp
+            end do
+        end do
+        call solver%update_rows(pattern, values, done, error)
+        if (allocated(error)) return
+        call check(error, .not. done, 'update to a singular matrix declined')
+        if (allocated(error)) return
+        call expect_singular(solver, pattern, values, error)
+    end subroutine test_row_update_singular
 
     !> The dense matrix held by a compressed-column pattern and its values.
     function to_dense(pattern, values) result(a)

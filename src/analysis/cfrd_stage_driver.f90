@@ -377,9 +377,10 @@ contains
         real(dp), intent(in), optional :: tangents(:, :, :, :)
         type(contact_t), intent(in), optional :: contact
         real(dp) :: t0, t1
-        logical :: linear
+        logical :: linear, assembled_before
         linear = all_linear(model, state%active)
         if (present(contact)) then
+            assembled_before = allocated(system%k_values)
             if (.not. (linear .and. allocated(system%k_values))) then
                 t0 = wall_seconds()
                 call assemble_tangent(model, library, state%active, system%pattern, stress, &
@@ -389,7 +390,9 @@ contains
                 system%k_values = system%values
                 result%stats%t_assembly = result%stats%t_assembly + (wall_seconds() - t0)
             end if
-            call factorise_contact(model, system, contact, result, context, error)
+            ! K alone unchanged (linear, assembled already): only contact rows can differ
+            call factorise_contact(model, system, contact, result, context, error, &
+                                   linear .and. assembled_before)
             return
         end if
         if (linear .and. system%factorised_linear) return
@@ -456,16 +459,20 @@ contains
         end do
     end function constraining_rows
 
-    !> K plus the contact rows of the current active set, factorised.
-    subroutine factorise_contact(model, system, contact, result, context, error)
+    !> K plus the contact rows of the current active set, factorised. With `update`, K is the
+    !> one factorised last and only contact rows changed: when few did, the factorisation is
+    !> updated for them (umfpack_t%update_rows, a few solves) instead of being redone.
+    subroutine factorise_contact(model, system, contact, result, context, error, update)
         type(model_t), intent(in) :: model
         type(system_t), intent(inout) :: system
         type(contact_t), intent(in) :: contact
         type(stage_result_t), intent(inout) :: result
         character(len=*), intent(in) :: context
         type(error_t), allocatable, intent(out) :: error
+        logical, intent(in) :: update
         real(dp), allocatable :: ke(:, :)
         real(dp) :: t0
+        logical :: done
         integer :: c, m, attempt
         do attempt = 1, 2
             t0 = wall_seconds()
@@ -481,6 +488,19 @@ contains
                 deallocate (ke)
             end do
             result%stats%t_assembly = result%stats%t_assembly + (wall_seconds() - t0)
+            if (update .and. attempt == 1) then
+                t0 = wall_seconds()
+                call system%solver%update_rows(system%pattern, system%values, done, error)
+                if (allocated(error)) then
+                    error%message = context//': '//error%message
+                    return
+                end if
+                result%stats%t_update = result%stats%t_update + (wall_seconds() - t0)
+                if (done) then
+                    result%stats%updates = result%stats%updates + 1
+                    return
+                end if
+            end if
             call factorise_values(system, result, context, error)
             if (.not. allocated(error)) return
             ! Sliding everywhere, a body held by friction alone is a mechanism of the
@@ -733,11 +753,21 @@ contains
             end if
             t0 = wall_seconds()
             call system%solver%solve(system%pattern, system%values, b, x, error)
+            result%stats%t_solve = result%stats%t_solve + (wall_seconds() - t0)
+            if (allocated(error) .and. system%solver%is_updated()) then
+                ! An updated solve that did not reach UMFPACK's accuracy: factorise instead.
+                deallocate (error)
+                result%stats%updates_declined = result%stats%updates_declined + 1
+                call factorise_contact(model, system, contact, result, context, error, .false.)
+                if (allocated(error)) return
+                t0 = wall_seconds()
+                call system%solver%solve(system%pattern, system%values, b, x, error)
+                result%stats%t_solve = result%stats%t_solve + (wall_seconds() - t0)
+            end if
             if (allocated(error)) then
                 error%message = context//': '//error%message
                 return
             end if
-            result%stats%t_solve = result%stats%t_solve + (wall_seconds() - t0)
             if (.not. all(ieee_is_finite(x))) then
                 call fatal_error(error, context//': the solution is not finite (singular '// &
                                  'stiffness matrix?)', numerical_error)
@@ -788,7 +818,7 @@ contains
                                  numerical_error)
                 return
             end if
-            call factorise_contact(model, system, contact, result, context, error)
+            call factorise_contact(model, system, contact, result, context, error, .true.)
             if (allocated(error)) return
         end do
     end subroutine solve_out_of_balance

@@ -306,6 +306,7 @@ contains
             write (unit, counts) '   numeric factorisations', &
                 summaries(size(summaries))%factorisations, sum(summaries%factorisations)
             if (contact) then
+                write (unit, counts) '   factorisation updates', st%updates, sum(all%updates)
                 write (unit, counts) '   contact iterations (solves)', st%contact_iterations, &
                     sum(all%contact_iterations)
                 write (unit, counts) '   regularised factorisations', st%regularised, &
@@ -317,6 +318,8 @@ contains
                 sum(all%t_symbolic), ' s'
             write (unit, times) '   numeric factorisation', st%t_numeric, sum(all%t_numeric), &
                 ' s'
+            if (contact) write (unit, times) '   factorisation updates', st%t_update, &
+                sum(all%t_update), ' s'
             write (unit, times) '   solve', st%t_solve, sum(all%t_solve), ' s'
             if (contact) write (unit, times) '   contact search and active set', &
                 st%t_contact, sum(all%t_contact), ' s'

@@ -16,6 +16,8 @@ module cfrd_results
         real(dp) :: t_assembly = 0.0_dp    !! s, stiffness and load assembly
         real(dp) :: t_symbolic = 0.0_dp    !! s, UMFPACK symbolic factorisation
         real(dp) :: t_numeric = 0.0_dp     !! s, UMFPACK numeric factorisation
+        !> s, low-rank updates of a factorisation (contact rows changed, umfpack_t%update_rows)
+        real(dp) :: t_update = 0.0_dp
         real(dp) :: t_solve = 0.0_dp       !! s, triangular solves
         !> s, contact search and geometry (contact_geometry: bucket search, couplings, gaps)
         !> and the active-set updates after each solve
@@ -23,6 +25,11 @@ module cfrd_results
         real(dp) :: rcond = 0.0_dp         !! UMFPACK's reciprocal condition estimate
         integer :: patterns = 0            !! sparse patterns built (FILL; contact: couplings)
         integer :: analyses = 0            !! UMFPACK symbolic factorisations (orderings)
+        !> matrices solved through an earlier factorisation by a low-rank row update instead
+        !> of a numeric factorisation of their own (contact active-set iterations)
+        integer :: updates = 0
+        !> updated solves that missed UMFPACK's accuracy, so that the matrix was factorised
+        integer :: updates_declined = 0
         !> nonzeros of L + U of the last numeric factorisation (UMFPACK's fill)
         integer :: lu_nnz = 0
         !> contact: solves of the active-set iteration (each solve of an increment counts,

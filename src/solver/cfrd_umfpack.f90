@@ -2,6 +2,9 @@
 !> interfaces to the `umfpack_di_*` routines (int indices, double values), and a public
 !> `umfpack_t` that keeps the symbolic factorisation for as long as the pattern holds, checks
 !> every status, turns singularity into an error_t and frees its handles on every path.
+!> A matrix that differs from the factorised one in a few rows (the contact rows of an
+!> active-set iteration) can be solved through that factorisation by a low-rank update
+!> (update_rows) instead of a new numeric factorisation.
 module cfrd_umfpack
     use, intrinsic :: iso_c_binding, only: c_int, c_double, c_ptr, c_null_ptr, c_associated
     use cfrd_kinds, only: dp
@@ -10,7 +13,7 @@ module cfrd_umfpack
     implicit none
     private
 
-    public :: umfpack_t, rcond_min, umfpack_status_text
+    public :: umfpack_t, rcond_min, umfpack_status_text, max_update_rank
 
     !> Below this reciprocal condition estimate the solution is refused: about 500 times the
     !> double-precision machine epsilon (2.2e-16). The error of a solve grows like eps/rcond, so
@@ -18,10 +21,27 @@ module cfrd_umfpack
     !> matrix, so it sees stiffness contrasts and rigid-body modes, not differences of units.
     real(dp), parameter :: rcond_min = 1.0e-13_dp
 
+    !> Most rows an update (update_rows) may change against the factorised matrix. Each row
+    !> costs one solve with the factors when it first differs, and its column serves the
+    !> later updates of the same factorisation; a numeric factorisation of the
+    !> Tianshengqiao-I contact systems costs about 15 (20818 equations) to 40 (1366) solves.
+    !> 8, 16, 32 and 64 were measured on the x4 contact deck (docs/performance.md, table f):
+    !> 8 and 16 factorise too often, 32 and 64 are equal within the noise.
+    integer, parameter :: max_update_rank = 32
+    !> Below this reciprocal condition estimate of the update's capacitance matrix the
+    !> update is declined and the matrix factorised: its conditioning is then UMFPACK's to
+    !> judge (rcond_min), and the solves do not lose digits to the update.
+    real(dp), parameter :: update_rcond_min = 1.0e-10_dp
+    !> Iterative refinement steps of an updated solve, as UMFPACK's default (UMFPACK_IRSTEP).
+    integer, parameter :: update_refinements = 2
+    !> The largest backward error an updated solve may leave (UMFPACK's own solves of these
+    !> systems leave about 2e-16); above it the matrix is factorised instead.
+    real(dp), parameter :: update_omega_max = 1.0e-13_dp
+
     ! Sizes and indices of umfpack.h (0-based in C, hence the +1 in Fortran).
     integer, parameter :: umfpack_control = 20, umfpack_info = 90
     integer, parameter :: i_prl = 0, i_strategy = 5, i_ordering = 10, i_scale = 16
-    integer, parameter :: i_rcond = 67
+    integer, parameter :: i_rcond = 67, i_irstep = 7
     integer, parameter :: i_nrow = 1, i_lnz = 43, i_unz = 44
     integer(c_int), parameter :: ordering_amd = 1
     integer(c_int), parameter :: umfpack_a = 0
@@ -38,14 +58,36 @@ module cfrd_umfpack
         real(c_double) :: info(umfpack_info) = 0.0_dp
         logical :: configured = .false.
         logical :: row_scaling = .true.
+        ! The row update (update_rows): the factorised matrix A0 has the values `base`; the
+        ! matrix solved is A1 = A0 + E D, E the unit columns of rows(1:rank), D the rows of
+        ! A1 - A0 there (triplets: slot in rows, column, value); w = A0^-1 E and the
+        ! capacitance matrix S = I + D w (LU-factorised) give A1^-1 = (I - w S^-1 D) A0^-1.
+        logical :: updated = .false.           !! solves are of A1, not of A0
+        real(dp), allocatable :: base(:)       !! (nnz) values of A0
+        integer :: rank = 0                    !! rows whose w columns are computed
+        integer :: rows(max_update_rank) = 0
+        real(dp), allocatable :: w(:, :)       !! (n, max_update_rank)
+        real(dp) :: capacitance(max_update_rank, max_update_rank) = 0.0_dp
+        !> 1 / the largest magnitude of each row of S: the rows of D are of K's size, while a
+        !> unit row of S is not, so S is equilibrated before its LU factorisation
+        real(dp) :: row_factor(max_update_rank) = 1.0_dp
+        integer :: pivots(max_update_rank) = 0
+        integer, allocatable :: d_slot(:), d_col(:)
+        real(dp), allocatable :: d_value(:)
+        !> The load and solution of the last solve of A0 itself: a load that differs from it
+        !> only in rows(1:rank) has A0^-1 b = x_base + w (b - b_base)(rows), no solve needed
+        real(dp), allocatable :: b_base(:), x_base(:)
     contains
         procedure :: set_row_scaling
         procedure :: analyse
         procedure :: factorise
+        procedure :: update_rows
         procedure :: solve
         procedure :: rcond
         procedure :: factor_nonzeros
+        procedure :: is_updated
         procedure :: release
+        procedure, private :: solve_factors, solve_updated, forget_update
         final :: finalise
     end type umfpack_t
 
@@ -100,6 +142,33 @@ module cfrd_umfpack
             import :: c_ptr
             type(c_ptr), intent(inout) :: numeric
         end subroutine umfpack_di_free_numeric
+
+        ! LAPACK: LU factorisation, solve and condition estimate of the small dense
+        ! capacitance matrix of a row update.
+        subroutine dgetrf(m, n, a, lda, ipiv, info)
+            import :: dp
+            integer, intent(in) :: m, n, lda
+            real(dp), intent(inout) :: a(lda, *)
+            integer, intent(out) :: ipiv(*), info
+        end subroutine dgetrf
+
+        subroutine dgetrs(trans, n, nrhs, a, lda, ipiv, b, ldb, info)
+            import :: dp
+            character, intent(in) :: trans
+            integer, intent(in) :: n, nrhs, lda, ldb, ipiv(*)
+            real(dp), intent(in) :: a(lda, *)
+            real(dp), intent(inout) :: b(ldb, *)
+            integer, intent(out) :: info
+        end subroutine dgetrs
+
+        subroutine dgecon(norm, n, a, lda, anorm, rcond, work, iwork, info)
+            import :: dp
+            character, intent(in) :: norm
+            integer, intent(in) :: n, lda
+            real(dp), intent(in) :: a(lda, *), anorm
+            real(dp), intent(out) :: rcond, work(*)
+            integer, intent(out) :: iwork(*), info
+        end subroutine dgecon
     end interface
 
 contains
@@ -171,6 +240,7 @@ contains
             if (allocated(error)) return
         end if
         if (c_associated(self%numeric)) call umfpack_di_free_numeric(self%numeric)
+        call self%forget_update()
         status = umfpack_di_numeric(pattern%colptr, pattern%rowind, values, self%symbolic, &
                                     self%numeric, self%control, self%info)
         if (status == warning_singular .or. &
@@ -188,8 +258,174 @@ contains
         if (allocated(error)) then
             if (c_associated(self%numeric)) call umfpack_di_free_numeric(self%numeric)
             self%numeric = c_null_ptr
+        else
+            self%base = values(1:pattern%nnz)
         end if
+        if (allocated(self%b_base)) deallocate (self%b_base, self%x_base)
     end subroutine factorise
+
+    !> Make the solves those of `values`, a matrix of the factorised one's pattern that differs
+    !> from it in at most max_update_rank rows, without a new numeric factorisation (the
+    !> Sherman-Morrison-Woodbury formula; one solve with the factors per row that differs for
+    !> the first time since the factorisation). `done` is false, and the solves stay those of
+    !> the factorised matrix, when more rows differ, when there is no factorisation, or when
+    !> the update is ill-conditioned: the caller then factorises `values`.
+    subroutine update_rows(self, pattern, values, done, error)
+        class(umfpack_t), intent(inout) :: self
+        type(sparse_pattern_t), intent(in) :: pattern
+        real(dp), intent(in) :: values(:)
+        logical, intent(out) :: done
+        type(error_t), allocatable, intent(out) :: error
+        integer, allocatable :: slot(:)
+        real(dp), allocatable :: unit_column(:)
+        real(dp) :: anorm, rcond_s, work(4*max_update_rank)
+        integer :: iwork(max_update_rank), rank, j, p, k, nd, status
+        done = .false.
+        self%updated = .false.
+        if (.not. c_associated(self%numeric) .or. .not. allocated(self%base)) return
+        call check_sizes(pattern, values, error)
+        if (allocated(error)) return
+        if (size(self%base) /= pattern%nnz) return
+        ! The rows that differ: those of earlier updates (their w columns are kept), then
+        ! the new ones.
+        allocate (slot(pattern%n), source=0)
+        do k = 1, self%rank
+            slot(self%rows(k)) = k
+        end do
+        rank = self%rank
+        nd = 0
+        do p = 1, pattern%nnz
+            if (values(p) == self%base(p)) cycle
+            nd = nd + 1
+            if (slot(pattern%rowind(p) + 1) > 0) cycle
+            rank = rank + 1
+            if (rank > max_update_rank) return
+            slot(pattern%rowind(p) + 1) = rank
+            self%rows(rank) = pattern%rowind(p) + 1
+        end do
+        if (.not. allocated(self%w)) then
+            allocate (self%w(pattern%n, max_update_rank))
+        else if (size(self%w, 1) /= pattern%n) then
+            deallocate (self%w)
+            allocate (self%w(pattern%n, max_update_rank))
+        end if
+        allocate (unit_column(pattern%n), source=0.0_dp)
+        do k = self%rank + 1, rank
+            unit_column(self%rows(k)) = 1.0_dp
+            call self%solve_factors(pattern, unit_column, self%w(:, k), error)
+            unit_column(self%rows(k)) = 0.0_dp
+            if (allocated(error)) then
+                self%rank = 0
+                return
+            end if
+            self%rank = k
+        end do
+        ! D as triplets, and S = I + D w.
+        self%d_slot = [integer :: (0, k = 1, nd)]
+        self%d_col = self%d_slot
+        self%d_value = [real(dp) :: (0.0_dp, k = 1, nd)]
+        nd = 0
+        do j = 1, pattern%n
+            do p = pattern%colptr(j) + 1, pattern%colptr(j + 1)
+                if (values(p) == self%base(p)) cycle
+                nd = nd + 1
+                self%d_slot(nd) = slot(pattern%rowind(p) + 1)
+                self%d_col(nd) = j
+                self%d_value(nd) = values(p) - self%base(p)
+            end do
+        end do
+        associate (s => self%capacitance(1:rank, 1:rank))
+            s = 0.0_dp
+            do k = 1, rank
+                s(k, k) = 1.0_dp
+            end do
+            do p = 1, nd
+                s(self%d_slot(p), :) = s(self%d_slot(p), :) + &
+                                       self%d_value(p)*self%w(self%d_col(p), 1:rank)
+            end do
+            do k = 1, rank
+                self%row_factor(k) = 1.0_dp/max(maxval(abs(s(k, :))), tiny(1.0_dp))
+                s(k, :) = self%row_factor(k)*s(k, :)
+            end do
+            anorm = maxval(sum(abs(s), dim=1))
+        end associate
+        call dgetrf(rank, rank, self%capacitance, max_update_rank, self%pivots, status)
+        if (status /= 0) return
+        call dgecon('1', rank, self%capacitance, max_update_rank, anorm, rcond_s, work, &
+                    iwork, status)
+        if (status /= 0 .or. .not. (rcond_s >= update_rcond_min)) return
+        self%updated = .true.
+        done = .true.
+    end subroutine update_rows
+
+    !> x = A0^-1 b with the factors alone (no refinement: the updated solve refines against
+    !> the updated matrix); its own info array, so that the factorisation's figures stay.
+    subroutine solve_factors(self, pattern, b, x, error)
+        class(umfpack_t), intent(in) :: self
+        type(sparse_pattern_t), intent(in) :: pattern
+        real(dp), intent(in) :: b(:)
+        real(dp), intent(out) :: x(:)
+        type(error_t), allocatable, intent(out) :: error
+        real(c_double) :: control(umfpack_control), info(umfpack_info)
+        integer(c_int) :: status
+        control = self%control
+        control(i_irstep + 1) = 0.0_dp
+        status = umfpack_di_solve(umfpack_a, pattern%colptr, pattern%rowind, self%base, x, b, &
+                                  self%numeric, control, info)
+        if (status /= umfpack_ok) call fatal_error(error, 'solve failed: '// &
+                                                   umfpack_status_text(int(status)), &
+                                                   numerical_error)
+    end subroutine solve_factors
+
+    !> x = A1^-1 b = (I - w S^-1 D) A0^-1 b. With `load`, b may be the last load of A0
+    !> changed in the updated rows (an active-set iteration changes the right-hand sides of
+    !> the contact rows it changes, and only those): A0^-1 b is then had without a solve.
+    subroutine solve_updated(self, pattern, b, x, error, load)
+        class(umfpack_t), intent(in) :: self
+        type(sparse_pattern_t), intent(in) :: pattern
+        real(dp), intent(in) :: b(:)
+        real(dp), intent(out) :: x(:)
+        type(error_t), allocatable, intent(out) :: error
+        logical, intent(in), optional :: load
+        real(dp) :: t(max_update_rank, 1)
+        real(dp), allocatable :: change(:)
+        integer :: p, status
+        logical :: known
+        known = .false.
+        if (present(load) .and. allocated(self%b_base)) then
+            change = b(1:pattern%n) - self%b_base
+            t(1:self%rank, 1) = change(self%rows(1:self%rank))
+            change(self%rows(1:self%rank)) = 0.0_dp
+            known = all(change == 0.0_dp)
+        end if
+        if (known) then
+            x(1:pattern%n) = self%x_base + matmul(self%w(:, 1:self%rank), t(1:self%rank, 1))
+        else
+            call self%solve_factors(pattern, b, x, error)
+            if (allocated(error)) return
+        end if
+        t = 0.0_dp
+        do p = 1, size(self%d_slot)
+            t(self%d_slot(p), 1) = t(self%d_slot(p), 1) + self%d_value(p)*x(self%d_col(p))
+        end do
+        t(1:self%rank, 1) = self%row_factor(1:self%rank)*t(1:self%rank, 1)
+        call dgetrs('N', self%rank, 1, self%capacitance, max_update_rank, self%pivots, t, &
+                    max_update_rank, status)
+        x(1:pattern%n) = x(1:pattern%n) - matmul(self%w(:, 1:self%rank), t(1:self%rank, 1))
+    end subroutine solve_updated
+
+    !> The solves are those of an updated matrix (update_rows), not of the factorised one.
+    logical function is_updated(self)
+        class(umfpack_t), intent(in) :: self
+        is_updated = self%updated
+    end function is_updated
+
+    !> Forget an update: the solves are those of the factorised matrix again.
+    subroutine forget_update(self)
+        class(umfpack_t), intent(inout) :: self
+        self%updated = .false.
+        self%rank = 0
+    end subroutine forget_update
 
     !> C reads and writes whole arrays without bounds checks, so short ones are caught here.
     pure subroutine check_sizes(pattern, values, error, size_b, size_x)
@@ -223,13 +459,99 @@ contains
         end if
         call check_sizes(pattern, values, error, size(b), size(x))
         if (allocated(error)) return
+        if (self%updated) then
+            call refined_solve(self, pattern, values, b, x, error)
+            return
+        end if
         status = umfpack_di_solve(umfpack_a, pattern%colptr, pattern%rowind, values, x, b, &
                                   self%numeric, self%control, self%info)
         if (status /= umfpack_ok) then
             call fatal_error(error, 'solve failed: '//umfpack_status_text(int(status)), &
                              numerical_error)
+        else if (allocated(self%base)) then
+            self%b_base = b(1:pattern%n)
+            self%x_base = x(1:pattern%n)
         end if
     end subroutine solve
+
+    !> The updated solve with iterative refinement against the updated matrix `values`, as
+    !> UMFPACK refines its own solves: while the sparse backward error (below) exceeds the
+    !> unit round-off and at least halves, at most update_refinements steps; the best x is
+    !> kept. A backward error still above update_omega_max is an error: the caller then
+    !> factorises the matrix instead (factorise), so that an updated solve is never less
+    !> accurate than UMFPACK's own.
+    subroutine refined_solve(self, pattern, values, b, x, error)
+        class(umfpack_t), intent(in) :: self
+        type(sparse_pattern_t), intent(in) :: pattern
+        real(dp), intent(in) :: values(:), b(:)
+        real(dp), intent(out) :: x(:)
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), allocatable :: r(:), dx(:), best(:)
+        real(dp) :: omega, last, before
+        integer :: step, n
+        character(len=40) :: text
+        n = pattern%n
+        call self%solve_updated(pattern, b(1:n), x(1:n), error, load=.true.)
+        if (allocated(error)) return
+        allocate (r(n), dx(n))
+        best = x(1:n)
+        last = huge(1.0_dp)
+        do step = 0, update_refinements
+            omega = backward_error(pattern, values, b(1:n), x(1:n), r)
+            if (.not. omega < last) exit
+            before = last
+            best = x(1:n)
+            last = omega
+            if (step == update_refinements .or. omega <= epsilon(1.0_dp)) exit
+            if (step > 0 .and. omega > 0.5_dp*before) exit
+            call self%solve_updated(pattern, r, dx, error)
+            if (allocated(error)) return
+            x(1:n) = x(1:n) + dx
+        end do
+        x(1:n) = best
+        if (.not. last <= update_omega_max) then
+            write (text, '(es9.2)') last
+            call fatal_error(error, 'updated solve not accurate: backward error'//trim(text), &
+                             numerical_error)
+        end if
+    end subroutine refined_solve
+
+    !> UMFPACK's sparse backward error omega1 + omega2 of x for A x = b (Arioli, Demmel and
+    !> Duff 1989), r = b - A x: row i counts |r_i| / (|A| |x| + |b|)_i where that is not
+    !> tiny, else |r_i| / ((|A| |x| + |b|)_i + sum_j |A_ij| max |x|) (a row whose solution
+    !> part is zero, as an open contact row's, would otherwise count round-off as 1).
+    function backward_error(pattern, values, b, x, r) result(omega)
+        type(sparse_pattern_t), intent(in) :: pattern
+        real(dp), intent(in) :: values(:), b(:), x(:)
+        real(dp), intent(out) :: r(:)
+        real(dp) :: omega
+        real(dp), allocatable :: ax(:), row_sum(:)
+        real(dp) :: xnorm, omega1, omega2, tau
+        integer :: j, p, i, n
+        n = pattern%n
+        allocate (ax(n), row_sum(n), source=0.0_dp)
+        r = b
+        do j = 1, n
+            do p = pattern%colptr(j) + 1, pattern%colptr(j + 1)
+                i = pattern%rowind(p) + 1
+                r(i) = r(i) - values(p)*x(j)
+                ax(i) = ax(i) + abs(values(p)*x(j))
+                row_sum(i) = row_sum(i) + abs(values(p))
+            end do
+        end do
+        xnorm = maxval(abs(x))
+        omega1 = 0.0_dp
+        omega2 = 0.0_dp
+        do i = 1, n
+            tau = ax(i) + abs(b(i))
+            if (tau > 1000.0_dp*n*epsilon(1.0_dp)*(row_sum(i)*xnorm + abs(b(i)))) then
+                omega1 = max(omega1, abs(r(i))/tau)
+            else if (tau + row_sum(i)*xnorm > 0.0_dp) then
+                omega2 = max(omega2, abs(r(i))/(tau + row_sum(i)*xnorm))
+            end if
+        end do
+        omega = omega1 + omega2
+    end function backward_error
 
     !> UMFPACK's reciprocal condition estimate, min |U_ii| / max |U_ii|, of the last
     !> numeric factorisation.
@@ -255,6 +577,8 @@ contains
         if (c_associated(self%symbolic)) call umfpack_di_free_symbolic(self%symbolic)
         self%numeric = c_null_ptr
         self%symbolic = c_null_ptr
+        call self%forget_update()
+        if (allocated(self%base)) deallocate (self%base)
     end subroutine release
 
     subroutine finalise(self)
