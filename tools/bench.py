@@ -351,6 +351,76 @@ def bench_tianshengqiao(cfrd, refinements, workdir, repeat, newton_max=2):
     return text, md
 
 
+def bench_interfaces(cfrd, refinements, workdir, repeat,
+                     interfaces=("bonded", "joint", "contact")):
+    """(e) The Tianshengqiao-I history with each slab-cushion interface on the same body mesh
+    (tools/tianshengqiao.py --interface): the solver and contact figures summed over the
+    stages from the HDF5 solver attributes (docs/results.md)."""
+    import subprocess
+    import time
+    import h5py
+    gen = os.path.join(HERE, "tianshengqiao.py")
+    rows = []
+    for r in refinements:
+        for interface in interfaces:
+            deck = os.path.join(workdir, f"tianshengqiao-x{r}-{interface}.dat")
+            subprocess.run([sys.executable, gen, "--refine", str(r), "--interface", interface,
+                            "--deck", deck], check=True)
+            best = None
+            for _ in range(repeat):
+                t0 = time.perf_counter()
+                done = subprocess.run([cfrd, "--quiet", deck], capture_output=True, text=True)
+                wall = time.perf_counter() - t0
+                if best is None or wall < best[0]:
+                    best = (wall, done)
+            wall, done = best
+            row = dict(r=r, interface=interface, wall=wall)
+            if done.returncode != 0:
+                row["error"] = (done.stderr.strip().splitlines() or ["?"])[-1][:90]
+            else:
+                with h5py.File(deck[:-4] + ".h5") as f:
+                    st = [f["stages"][k] for k in sorted(f["stages"])]
+                    sv = [g["solver"].attrs for g in st]
+
+                    def total(key, attrs=sv):
+                        return sum(float(np.ravel(a.get(key, 0))[0]) for a in attrs)
+                    row["nelem"] = f["mesh/connectivity"].shape[0]
+                    row["neq"] = max(int(a["neq"]) for a in sv)
+                    row["inc"] = sum(int(g.attrs["increments"]) for g in st)
+                    row["fact"] = int(total("numeric_factorisations"))
+                    row["updates"] = int(total("updates"))
+                    row["cit"] = int(total("contact_iterations"))
+                    # increments of the stages with contact unknowns (slab placed)
+                    row["cinc"] = sum(int(g.attrs["increments"]) for g, a in zip(st, sv)
+                                      if int(np.ravel(a.get("contact_iterations", 0))[0]) > 0)
+                    row["t_contact"] = total("t_contact")
+                    row["t_solver"] = (total("t_symbolic") + total("t_numeric")
+                                       + total("t_solve") + total("t_update"))
+                    row["t_assembly"] = total("t_assembly")
+                    row["analysis"] = float(np.ravel(f["run"].attrs["wall_time"])[0])
+            rows.append(row)
+            print(f"  tianshengqiao x{r} {interface}: {sec(wall)} s {row.get('error', '')}",
+                  file=sys.stderr, flush=True)
+    header = ["mesh", "interface", "elements", "equations", "increments", "factorisations",
+              "updates", "contact it.", "it./increment", "search s", "assembly s", "solver s",
+              "analysis s", "process s"]
+    cells = []
+    for row in rows:
+        if "error" in row:
+            cells.append([f"x{row['r']}", row["interface"]] + ["-"] * 11
+                         + [sec(row["wall"]) + " failed: " + row["error"]])
+            continue
+        contact = row["interface"] == "contact"
+        cells.append([f"x{row['r']}", row["interface"], str(row["nelem"]), str(row["neq"]),
+                      str(row["inc"]), str(row["fact"]), str(row["updates"]),
+                      str(row["cit"]) if contact else "-",
+                      f"{row['cit'] / max(row['cinc'], 1):.2f}" if contact else "-",
+                      f"{row['t_contact']:.3f}" if contact else "-",
+                      sec(row["t_assembly"]), sec(row["t_solver"]), sec(row["analysis"]),
+                      sec(row["wall"])])
+    return table(header, cells, "llrrrrrrrrrrrr")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--cfrd", default=os.path.join(ROOT, "bin", "cfrd"))
@@ -369,8 +439,23 @@ def main(argv=None):
     ap.add_argument("--tsq-newton-max", type=int, default=2,
                     help="largest Tianshengqiao-I refinement also run with Newton")
     ap.add_argument("--only-tianshengqiao", action="store_true", help="table (d) only")
+    ap.add_argument("--interface-refine", default="1,4",
+                    help="Tianshengqiao-I refinements for table (e), the interface methods"
+                         " (empty: skip)")
+    ap.add_argument("--only-interfaces", action="store_true", help="table (e) only")
     args = ap.parse_args(argv)
     tsq = [int(x) for x in args.tsq_refine.split(",") if x.strip()]
+    ifr = [int(x) for x in args.interface_refine.split(",") if x.strip()]
+    if args.only_interfaces:
+        os.makedirs(args.workdir, exist_ok=True)
+        t, m = bench_interfaces(args.cfrd, ifr, args.workdir, args.repeat)
+        print(machine())
+        print("(e) Tianshengqiao-I, interface methods")
+        print(t)
+        if args.markdown:
+            with open(args.markdown, "w") as f:
+                f.write(f"Machine: {machine()}.\n\n{m}\n")
+        return 0
     if args.only_tianshengqiao:
         os.makedirs(args.workdir, exist_ok=True)
         t, m = bench_tianshengqiao(args.cfrd, tsq, args.workdir, args.repeat,
@@ -430,6 +515,11 @@ def main(argv=None):
         out_md += ["**(d) Tianshengqiao-I, the whole 1996-1999 history** "
                    "(tools/tianshengqiao.py meshes; midpoint as in the paper, Newton to "
                    "1e-10).", "", m, ""]
+    if cfrd and ifr:
+        t, m = bench_interfaces(cfrd, ifr, args.workdir, args.repeat)
+        out_text += ["", "(e) Tianshengqiao-I, the interface methods on the same body mesh", t]
+        out_md += ["**(e) Tianshengqiao-I, the interface methods** (bonded, Goodman joints, "
+                   "contact; the same body mesh; sums over the stages).", "", m, ""]
     print("\n".join(out_text))
     if args.markdown:
         with open(args.markdown, "w") as f:

@@ -116,6 +116,25 @@ class Geometry:
             lines.append(self.crest)
         return np.array(lines)
 
+    # Rows of the top row of each slab phase but the last (the zone where a phase's slab top
+    # separates, paper Figs. 11-12) split into this many mesh rows of equal height; the fill
+    # layers, gauges and block tops stay on row_lines().
+    top_rows = 1
+
+    def mesh_lines(self):
+        """Elevations of the x1 mesh's row lines, and for each mesh band the row_lines()
+        band it lies in: row_lines() with the top row of each phase but the last split
+        into top_rows rows."""
+        lines = self.row_lines()
+        tops = self.v("slab", "phase_tops")[:-1]
+        out, parent = [lines[0]], []
+        for j in range(len(lines) - 1):
+            split = self.top_rows if any(abs(lines[j + 1] - t) < 1e-6 for t in tops) else 1
+            for k in range(1, split + 1):
+                out.append(lines[j] + (lines[j + 1] - lines[j]) * k / split)
+                parent.append(j)
+        return np.array(out), parent
+
 
 # --------------------------------------------------------------------------------------
 # The mesh
@@ -159,8 +178,9 @@ def build_x1(geo, interface="bonded"):
     moved out by it), 'contact' (the slab meshed on its own, with slab.contact_elements
     along the slope: nodes that do not match the cushion's)."""
     mesh = Mesh()
-    y = geo.row_lines()
+    y, parent = geo.mesh_lines()
     nband = len(y) - 1
+    unsplit = [parent.count(parent[j]) == 1 for j in range(nband)]
     bands_top = nband - 1
     split = geo.v("mesh", "split_width")
     frac = geo.v("mesh", "transition_height")
@@ -176,7 +196,8 @@ def build_x1(geo, interface="bonded"):
     for j in range(bands_top, -1, -1):
         width = geo.x_down(y[j]) - geo.x_up(y[j])
         gap = width - a[-1][0] - b[-1][0]
-        if gap > split:
+        # (a split row's bands are too low for a transition: it waits for the next row)
+        if gap > split and unsplit[j]:
             # The new lines start one slope-run of the row from the old ones, so that each
             # ends right below the old line's top node (transition quads stay convex with
             # angles no smaller than the face's).
@@ -248,8 +269,11 @@ def build_x1(geo, interface="bonded"):
 
     if interface == "contact":
         rows, bottom = [geo.base], geo.base
-        for top, n in zip(tops, geo.v("interface", "contact_elements")):
-            rows += [bottom + (top - bottom) * k / n for k in range(1, n + 1)]
+        for phase, (top, n) in enumerate(zip(tops, geo.v("interface", "contact_elements")), 1):
+            rows += [bottom + (top - bottom) * k / n for k in range(1, n)]
+            # the top element split as the body's top row (mesh_lines)
+            split = geo.top_rows if phase < len(tops) else 1
+            rows += [rows[-1] + (top - rows[-1]) * k / split for k in range(1, split + 1)]
             bottom = top
         slab_rows = [(("c", k), rows[k]) for k in range(len(rows))]
     else:
@@ -392,6 +416,7 @@ def plan_history(geo, mesh):
     """Element groups and the stage list. Returns (stages, notes): stages are tuples
     (keyword, field2, ninc, date, label); notes describe snapped values for the header."""
     y = geo.row_lines()
+    ym, parent = geo.mesh_lines()
     ninc_layer = geo.v("increments", "fill_layer")
     ninc_slab = geo.v("increments", "slab_phase")
     step = geo.v("increments", "water_step")
@@ -414,7 +439,7 @@ def plan_history(geo, mesh):
                 name = f"{event['name']}R{j + 1:02d}"
                 members = []
                 for q in body:
-                    if q.band != j or id(q) in placed:
+                    if parent[q.band] != j or id(q) in placed:
                         continue
                     cx, cy = centroid(mesh, q)
                     if cx <= event["edge"] + event["slope"] * (top - cy):
@@ -460,7 +485,7 @@ def plan_history(geo, mesh):
         if q.kind == "body" and q.wet_face4:
             for phase, hi in enumerate(tops, 1):
                 lo = tops[phase - 2] if phase > 1 else geo.base
-                if lo - 1e-6 <= y[q.band] and y[q.band + 1] <= hi + 1e-6:
+                if lo - 1e-6 <= ym[q.band] and ym[q.band + 1] <= hi + 1e-6:
                     q.cover = f"SLAB{phase}"
     return stages, notes
 
@@ -762,8 +787,13 @@ def main(argv=None):
                         help="element type of the slab (default: Q4S for contact, Q4 else)")
     parser.add_argument("--rule", default="LOBATTO", choices=["LOBATTO", "GAUSS"],
                         help="integration rule of the joints (--interface joint)")
+    parser.add_argument("--top-rows", type=int, default=None,
+                        help="split the top row of slab phases I and II into this many mesh"
+                             " rows (x1; refined with the rest)")
     args = parser.parse_args(argv)
     geo = Geometry(args.geometry)
+    if args.top_rows is not None:
+        geo.top_rows = args.top_rows
     jobs = []
     if args.all:
         root = Path(__file__).resolve().parent.parent / "inputs"
