@@ -131,6 +131,25 @@ def interface_meshes():
           f" interface (expected 21 = 20 elements + 1), {shared} shared with the body (expected"
           f" 0), {close} at a cushion node's place (expected 4: toe and phase tops)")
     ok &= good
+    # The contact slab's rings (element ends) are normal to the face but at the toe: its
+    # quads are rectangles along the slope, where the Q4S slab is exact in bending (docs/
+    # theory.md section 3; on the bonded decks' horizontal rings they are parallelograms).
+    t = np.array([geo.su, 1.0]) / np.hypot(geo.su, 1.0)
+    worst = 0.0
+    for c, q in zip(num.conn, num.quads):
+        if q.kind != "slab":
+            continue
+        p = num.xy[np.asarray(c) - 1]
+        for a, b in ((0, 1), (3, 2)):       # the element ends (nodes 1-2 bottom, 4-3 top)
+            if abs(p[a, 1] - geo.base) < 1e-9 and abs(p[b, 1] - geo.base) < 1e-9:
+                continue                    # the toe ring lies on the base
+            d = (p[b] - p[a]) / np.linalg.norm(p[b] - p[a])
+            worst = max(worst, abs(float(d @ t)))
+    good = worst < 1e-10
+    print(("PASS" if good else "FAIL") + f" tsq/contact-slab-rectangles: largest cosine between"
+          f" an element end and the face {worst:.1e} (expected below 1e-10: ends normal to the"
+          f" face)")
+    ok &= good
     return ok
 
 

@@ -294,6 +294,13 @@ def build_x1(geo, interface="bonded"):
             inner = mesh.point(("ci", tag), (xi, yy))
         keys = [inner]
         for layer in range(1, layers + 1):
+            if interface == "contact" and yy > geo.base + 1e-9:
+                # The contact slab's own mesh: rings normal to the face (rectangles along
+                # the slope, no skew), but at the toe, where the ring lies on the base.
+                t = geo.slab_thickness(yy) * layer / layers
+                keys.append(mesh.point(("s", layer, tag), (xi - t / factor,
+                                                           yy + t * geo.su / factor)))
+                continue
             keys.append(mesh.point(("s", layer, tag), (xi - thin * factor - th * layer / layers, yy)))
         rings.append((tag, yy, face, keys))
     for (tag0, y0, face0, ring0), (tag1, y1, face1, ring1) in zip(rings, rings[1:]):
