@@ -25,8 +25,8 @@ module cfrd_umfpack
     !> costs one solve with the factors when it first differs, and its column serves the
     !> later updates of the same factorisation; a numeric factorisation of the
     !> Tianshengqiao-I contact systems costs about 15 (20818 equations) to 40 (1366) solves.
-    !> 8, 16, 32 and 64 were measured on the x4 contact deck (docs/performance.md, table f):
-    !> 8 and 16 factorise too often, 32 and 64 are equal within the noise.
+    !> 8, 24, 32 and 64 were measured on the x4 contact deck (docs/performance.md, "The rank
+    !> of the low-rank updates"): 8 factorises too often, 24 to 64 are equal within the noise.
     integer, parameter :: max_update_rank = 32
     !> Below this reciprocal condition estimate of the update's capacitance matrix the
     !> update is declined and the matrix factorised: its conditioning is then UMFPACK's to
@@ -194,7 +194,8 @@ contains
     !> on by default). A saddle-point system whose constraint rows are already scaled to the
     !> size of K's entries (contact, docs/theory.md section 14) is factorised faster without
     !> it: the scaling magnifies the short constraint rows, so that far more pivots leave the
-    !> diagonal (docs/performance.md, table f). Takes effect at the next factorisation.
+    !> diagonal (docs/performance.md, "Row scaling of the contact systems"). Takes effect at
+    !> the next factorisation.
     subroutine set_row_scaling(self, on)
         class(umfpack_t), intent(inout) :: self
         logical, intent(in) :: on
