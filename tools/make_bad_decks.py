@@ -181,6 +181,10 @@ cases += [
  ("element-type", csub("    3    7    8   12   11    1    2    1 TOP", "    3    7    8   12   11    1    2    1 TOP       Q8"), "{f}:10:51-60: field TYPE of ELEMENTS 3: expected an element type: Q4 (blank) or Q4S (assumed shear strain, for slabs in bending), found 'Q8'"),
  ("contact-unused-surface", csub(CPAIR, "SURFACE   SIDE          1    4\n" + CPAIR), "{f}:17: surface SIDE is in no CONTACT PAIR"),
 ]
+# Found by tools/fuzz.py (issue 9, section 4): each crashed or misreported before its fix.
+cases += [
+ ("coordinate-overflow", sub("       2.0       0.0\n    4", "     1e307       0.0\n    4"), "{f}:6:36-45: field X2 of NODES 1: expected a coordinate of magnitude at most 1e7 (m), found '1e307'"),
+]
 for old in os.listdir(P):
     os.remove(P + old)
 for i, (name, deck, expect) in enumerate(cases, 1):
