@@ -83,7 +83,7 @@ slurm-check: build
 	@tools/slurm_cluster_check.sh bin/cfrd build/slurm-check
 
 ## fuzz: 10,000 mutated decks of inputs/ through bin/cfrd: no crash, hang, vague message or
-## NaN (make fuzz [FUZZ_COUNT=N] [FUZZ_SEED=S]; about 10 min; docs/robustness.md)
+## NaN (make fuzz [FUZZ_COUNT=N] [FUZZ_SEED=S]; about 6 min; docs/robustness.md)
 FUZZ_COUNT ?= 10000
 FUZZ_SEED ?= 1
 fuzz: build

@@ -14,16 +14,18 @@ run in full (--out a fresh directory). Each outcome is one of
   rejected   exit 2, one message `cfrd: FILE:LINE[:C1-C2]: ...` (a field message names the
              field: `FILE:LINE:C1-C2: field NAME of ...`); only a whole-deck problem (missing
              group, no END card) may name no line
-  accepted   --check exit 0 (and, when run, exit 0 with finite results)
-  failed     the full run exited 1 with a `cfrd: ` diagnostic, finite results
+  accepted   --check exit 0, not run in full (a mutant asking for over 10 times its deck's
+             increments is never run: valid and slow, not hung)
+  ran        the full run exited 0, every result finite
+  failed     the full run exited 1 with a `cfrd: ` diagnostic, every result finite
 and the failures are
   crash      a signal, a Fortran runtime error or backtrace, an exit status other than 0/1/2
   hang       no answer within the timeout (--check: 20 s; a full run: 60 s, while every
              unmutated deck runs in 3 s)
   message    a rejection whose message lacks FILE:LINE (or names a line or column the mutant
              does not have, or a column range without the field)
-  nan        NaN or Inf in a written result: the listing, a CSV or a float dataset or
-             attribute of an HDF5 file
+  nan        NaN or Inf in a written result: the listing, a CSV, the XDMF file (not a word
+             of the deck's own labels) or a float dataset or attribute of an HDF5 file
 
 A mutant is determined by its seed alone: `tools/fuzz.py --reproduce SEED` writes it again
 (build/fuzz/repro-SEED/), prints the mutation and runs it. Failed mutants are kept in
