@@ -24,7 +24,7 @@ DECKS ?= $(wildcard inputs/*.dat)
 OUT ?= batch-results
 STUDY ?= inputs/studies/tianshengqiao-joint.dat
 
-.PHONY: run test bench figures batch study references slurm-check deps build build-debug clean
+.PHONY: run test bench fuzz figures batch study references slurm-check deps build build-debug clean
 
 ## deps: install whatever is missing; a second call only checks (well under a second).
 deps:
@@ -81,6 +81,14 @@ references: build
 slurm-check: build
 	@tools/ensure_deps.sh "$(SLURM_APT_PACKAGES)" ""
 	@tools/slurm_cluster_check.sh bin/cfrd build/slurm-check
+
+## fuzz: 10,000 mutated decks of inputs/ through bin/cfrd: no crash, hang, vague message or
+## NaN (make fuzz [FUZZ_COUNT=N] [FUZZ_SEED=S]; about 6 min; docs/robustness.md)
+FUZZ_COUNT ?= 10000
+FUZZ_SEED ?= 1
+fuzz: build
+	@python3 tools/fuzz.py --cfrd bin/cfrd --count $(FUZZ_COUNT) --seed $(FUZZ_SEED) \
+	  --workdir build/fuzz/run
 
 ## bench: timing figures (see docs/performance.md)
 bench: build

@@ -4,7 +4,8 @@
 #   2. the command line: bad decks (exit 2 and the message), exit statuses, results left
 #      untouched by a failed run,
 #   3. the independent peer: the same embankment through CalculiX, and the other tool checks,
-#   4. batch runs, studies, the comparison tool and the regression suite.
+#   4. batch runs, studies, the comparison tool and the regression suite,
+#   5. a short fuzz run of mutated decks (tools/fuzz.py; make fuzz runs 10,000).
 # Every check prints PASS or FAIL; the last line is exactly `N passed, N failed`.
 set -u
 fortran_log=$1            # output of `fpm test` on the debug build (from the Makefile)
@@ -124,6 +125,11 @@ tool_checks "batch" python3 tools/check_batch.py --cfrd "$cfrd" --workdir "$work
 tool_checks "compare" python3 tools/check_compare.py --cfrd "$cfrd" --workdir "$work/compare"
 tool_checks "regression" python3 tools/regression.py --cfrd "$cfrd" \
     --workdir "$work/regression"
+# 5. Bad input at scale (issue 9, section 4): a short fixed-seed fuzz run, every mutant read
+# with --check and every other accepted mutant of the small decks run in full; none may crash,
+# hang, be rejected without FILE:LINE (and field), or write NaN (make fuzz runs 10,000).
+tool_checks "fuzz" python3 tools/fuzz.py --cfrd "$cfrd" --count 500 --seed 1 --full-large 0 \
+    --workdir "$work/fuzz"
 
 echo "$passed passed, $failed failed"
 [[ $failed -eq 0 ]]

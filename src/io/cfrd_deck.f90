@@ -54,6 +54,10 @@ module cfrd_deck
     !> (guards against a mistyped number allocating gigabytes).
     integer, parameter :: max_number = 10000000
 
+    !> Largest coordinate magnitude (m): larger is a mistyped field (a dam is kilometres
+    !> wide; UTM northings stay below 1e7 m), and squares of lengths beyond 1e154 overflow.
+    real(dp), parameter :: max_coordinate = 1.0e7_dp
+
     ! Card layouts (docs/cards.md): name, first column, width, kind.
     type(field_t), parameter :: control_fields(11) = [ &
                                 field_t('NNODE', 1, 5, int_field), &
@@ -831,6 +835,7 @@ contains
         type(error_t), allocatable, intent(out) :: error
         integer, allocatable :: n1(:), n2(:), inc(:)
         real(dp), allocatable :: p1(:, :), p2(:, :)
+        real(dp) :: xy(4)
         integer :: i, k, steps, node, limit, nnode
         logical :: given_x2, given_y2
         character(len=:), allocatable :: ctx
@@ -852,6 +857,15 @@ contains
                 call get_real(file, card, node_fields, 7, ctx, 0.0_dp, p2(2, i), error, &
                               given_y2)
                 if (allocated(error)) return
+                xy = [p1(:, i), p2(:, i)]
+                do k = 1, 4
+                    if (abs(xy(k)) > max_coordinate) then
+                        call field_error(error, file, card, node_fields, k + 3, ctx, &
+                                         'a coordinate of magnitude at most 1e7 (m)', &
+                                         raw_text(card, node_fields, k + 3))
+                        return
+                    end if
+                end do
                 if (n2(i) > n1(i) .and. .not. (given_x2 .and. given_y2)) then
                     k = merge(7, 6, given_x2)
                     call field_error(error, file, card, node_fields, k, ctx, &
