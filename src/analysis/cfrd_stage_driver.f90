@@ -24,7 +24,7 @@ module cfrd_stage_driver
     use cfrd_contact, only: contact_t, new_contact, contact_geometry, contact_element_dofs, &
                             contact_element_matrix, contact_rhs, contact_unpack, &
                             contact_update_sets, contact_forces, contact_accept, &
-                            contact_iteration_limit, contact_slip
+                            contact_iteration_limit, contact_slip, contact_stick_excess
     use cfrd_contact_results, only: record_contact
     use cfrd_sparse, only: assemble_element
     implicit none
@@ -84,6 +84,15 @@ module cfrd_stage_driver
     !> The slip rows' regularisation when a body held by friction alone slips at every
     !> node (a mechanism of the linearised equations): q = mu p sign - 1e-9 c_n slip.
     real(dp), parameter :: slip_viscosity = 1.0e-9_dp
+    !> A slave node whose status changes this often in one solve chatters: it is held in
+    !> stick (docs/theory.md section 14).
+    integer, parameter :: chatter_flips = 4
+    !> ... once the iteration has run this long without settling (half the limit): the
+    !> chatter of converging iterations is left alone.
+    integer, parameter :: chatter_start = contact_iteration_limit/2
+    !> Held nodes are accepted when no one's excess over its stick conditions (tension, or
+    !> shear beyond mu p) exceeds this fraction of the largest contact pressure.
+    real(dp), parameter :: held_tolerance = 1.0e-3_dp
 
 contains
 
@@ -716,9 +725,10 @@ contains
         type(contact_t), intent(inout), optional :: contact
         real(dp), intent(in), optional :: du_base(:, :)
         real(dp), allocatable :: f_int(:, :), b(:), x(:), known(:, :)
-        integer, allocatable :: seen(:, :)
+        integer, allocatable :: seen(:, :), before(:), flips(:)
+        logical, allocatable :: held(:), changing(:)
         real(dp) :: t0
-        integer :: node, k, c, neq, iteration, earlier, cycling
+        integer :: node, k, c, neq, iteration, earlier, cycling, since
         logical :: changed
         allocate (f_int(2, model%mesh%nnode))
         if (any(du_p /= 0.0_dp)) then
@@ -739,9 +749,12 @@ contains
             known = du_p
             if (present(du_base)) known = known + du_base
             allocate (seen(contact%nc, contact_iteration_limit))
+            allocate (flips(contact%nc), source=0)
+            allocate (held(contact%nc), source=.false.)
         end if
         iteration = 0
         cycling = 0
+        since = 1
         do
             iteration = iteration + 1
             if (present(contact)) then
@@ -783,45 +796,138 @@ contains
             ! The active set: done when the solve left it as it was.
             t0 = wall_seconds()
             call contact_unpack(contact, x(neq + 1:), system%contact_scale)
+            before = 3*contact%status + contact%slip_sign
             if (present(du_base)) then
                 call contact_update_sets(model, contact, du_base + du, system%contact_scale, &
-                                         changed, cycling > 0)
+                                         changed, cycling > 0, held)
             else
                 call contact_update_sets(model, contact, du, system%contact_scale, changed, &
-                                         cycling > 0)
+                                         cycling > 0, held)
             end if
             result%stats%t_contact = result%stats%t_contact + (wall_seconds() - t0)
             result%stats%contact_iterations = result%stats%contact_iterations + 1
-            if (.not. changed) exit
+            if (.not. changed) then
+                ! Held nodes: accepted when their tractions break stick by little.
+                if (any(held)) call check_held(error)
+                return
+            end if
             seen(:, iteration) = 3*contact%status + contact%slip_sign
-            do earlier = max(1, cycling), iteration - 1
+            where (seen(:, iteration) /= before) flips = flips + 1
+            ! Chatter (a node that keeps changing, never repeating the whole set exactly):
+            ! hold it closed in stick (docs/theory.md section 14).
+            if (iteration >= chatter_start .and. &
+                any(flips >= chatter_flips .and. .not. held)) then
+                where (flips >= chatter_flips) held = .true.
+                since = iteration
+            end if
+            do earlier = since, iteration - 1
                 if (all(seen(:, earlier) == seen(:, iteration))) then
-                    ! A cycle: go on changing one node at a time (the worst first), once.
+                    ! A cycle: go on changing one node at a time (the worst first), once;
+                    ! a second one: hold the nodes that change within it, once more.
+                    changing = [(any(seen(c, earlier:iteration) /= seen(c, iteration)), &
+                                 c=1, contact%nc)]
                     if (cycling == 0) then
                         cycling = iteration
+                        since = iteration
                         exit
                     end if
-                    call fatal_error(error, context//': no convergence: the contact '// &
-                                     'active set cycles (iteration '//to_text(iteration)// &
-                                     ' repeats iteration '//to_text(earlier)//'; '// &
-                                     to_text(count(seen(:, earlier) /= seen(:, iteration - 1)))// &
-                                     ' slave nodes change, the first node '// &
-                                     to_text(contact%node(findloc(seen(:, earlier) /= &
-                                     seen(:, iteration - 1), .true., dim=1)))//')', &
-                                     numerical_error)
-                    return
+                    if (.not. any(changing .and. .not. held)) then
+                        call fatal_error(error, context//': no convergence: the contact '// &
+                                         'active set cycles at contact iteration '// &
+                                         to_text(iteration)//' (it repeats iteration '// &
+                                         to_text(earlier)//') with '// &
+                                         to_text(count(changing))//' slave nodes held; '// &
+                                         worst_text(changing), numerical_error)
+                        return
+                    end if
+                    where (changing) held = .true.
+                    since = iteration
+                    exit
                 end if
             end do
             if (iteration == contact_iteration_limit) then
                 call fatal_error(error, context//': no convergence: the contact active set '// &
-                                 'did not settle in '//to_text(iteration)//' iterations', &
-                                 numerical_error)
+                                 'did not settle in '//to_text(iteration)//' iterations ('// &
+                                 to_text(count(seen(:, iteration) /= before))// &
+                                 ' slave nodes changed in the last, '// &
+                                 to_text(count(held))//' held in stick; '// &
+                                 worst_text(seen(:, iteration) /= before), numerical_error)
                 return
             end if
             call factorise_contact(model, system, contact, result, context, error, .true.)
             if (allocated(error)) return
         end do
+    contains
+        !> The held nodes' excess over their stick conditions against held_tolerance times
+        !> the largest contact pressure; counted in the stage's results, or an error.
+        subroutine check_held(error)
+            type(error_t), allocatable, intent(out) :: error
+            real(dp), allocatable :: excess(:)
+            real(dp) :: bound
+            integer :: worst
+            allocate (excess(size(held)), source=0.0_dp)
+            do c = 1, contact%nc
+                if (held(c) .and. contact%supported(c)) &
+                    excess(c) = contact_stick_excess(model, contact, c)
+            end do
+            bound = held_tolerance*max(maxval(abs(contact%p)), tiny(1.0_dp))
+            worst = maxloc(excess, dim=1)
+            if (excess(worst) > bound) then
+                call fatal_error(error, context//': no convergence: '//to_text(count(held))// &
+                                 ' slave nodes held in stick after chatter or a cycle (contact '// &
+                                 'iteration '//to_text(iteration)//') break their conditions: '// &
+                                 'node '//to_text(contact%node(worst))//' by '// &
+                                 real_text(excess(worst))//' kPa (p '// &
+                                 real_text(contact%p(worst))//', q '// &
+                                 real_text(contact%q(worst))//' kPa), more than '// &
+                                 real_text(held_tolerance)//' of the largest pressure '// &
+                                 real_text(maxval(abs(contact%p)))//' kPa', numerical_error)
+                return
+            end if
+            result%stats%held = max(result%stats%held, count(held))
+            result%stats%held_excess = max(result%stats%held_excess, &
+                                           excess(worst)/max(maxval(abs(contact%p)), &
+                                                             tiny(1.0_dp)))
+        end subroutine check_held
+
+        !> 'node N (status from -> to, complementarity violation V kPa)' for the node of
+        !> `mask` that violates its conditions most (its excess over stick, or |p| when open).
+        function worst_text(mask) result(text)
+            logical, intent(in) :: mask(:)
+            character(len=:), allocatable :: text
+            real(dp), allocatable :: measure(:)
+            integer :: worst
+            allocate (measure(size(mask)), source=-1.0_dp)
+            do c = 1, contact%nc
+                if (mask(c)) measure(c) = max(contact_stick_excess(model, contact, c), &
+                                              abs(contact%p(c)))
+            end do
+            worst = maxloc(measure, dim=1)
+            text = 'the first of them node '// &
+                   to_text(contact%node(findloc(mask, .true., dim=1)))// &
+                   ', the worst node '//to_text(contact%node(worst))//' (p '// &
+                   real_text(contact%p(worst))//', q '//real_text(contact%q(worst))// &
+                   ' kPa, status '//status_word(before(worst))//' -> '// &
+                   status_word(3*contact%status(worst) + contact%slip_sign(worst))//')'
+        end function worst_text
     end subroutine solve_out_of_balance
+
+    pure function status_word(code) result(word)
+        integer, intent(in) :: code
+        character(len=:), allocatable :: word
+        select case (code)
+        case (0)
+            word = 'open'
+        case (3)
+            word = 'stick'
+        case (5)
+            word = 'slip-'
+        case (7)
+            word = 'slip+'
+        case default
+            word = 'slip'
+        end select
+    end function status_word
 
     !> Strain (or relative displacement) increments of element e for the nodal increment du,
     !> zero-padded to (4, ngauss); ng: the element's integration points.
