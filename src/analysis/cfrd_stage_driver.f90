@@ -24,7 +24,8 @@ module cfrd_stage_driver
     use cfrd_contact, only: contact_t, new_contact, contact_geometry, contact_element_dofs, &
                             contact_element_matrix, contact_rhs, contact_unpack, &
                             contact_update_sets, contact_forces, contact_accept, &
-                            contact_iteration_limit, contact_slip, contact_stick_excess
+                            contact_iteration_limit, contact_slip, contact_stick, &
+                            contact_stick_excess
     use cfrd_contact_results, only: record_contact
     use cfrd_sparse, only: assemble_element
     implicit none
@@ -292,8 +293,13 @@ contains
                                  f_start + f_water + stage_force*(done + step), &
                                  du_stage*step, result, context, error)
             if (allocated(error)) then
-                if (index(error%message, 'no convergence') == 0 .or. &
-                    cuts == max_cutbacks) return
+                if (index(error%message, 'no convergence') == 0) return
+                if (cuts == max_cutbacks) then
+                    error%message = error%message//'; the increment cut back '// &
+                                    to_text(cuts)//' times in a row (to '// &
+                                    fixed_text(step/nominal)//' of its nominal size)'
+                    return
+                end if
                 ! Cutbacks that keep succeeding once and failing again must not run on for
                 ! ever: at most max_growth times the nominal increments per stage.
                 if (k > max_growth*n) then
@@ -512,6 +518,8 @@ contains
             end if
             call factorise_values(system, result, context, error)
             if (.not. allocated(error)) return
+            if (system%viscous > 0.0_dp .or. attempt == 2 .or. &
+                .not. any(contact%status == contact_slip)) call mechanism_hint()
             ! Sliding everywhere, a body held by friction alone is a mechanism of the
             ! linearised equations: regularise the slip rows and try once more.
             if (system%viscous > 0.0_dp .or. .not. any(contact%status == contact_slip) .or. &
@@ -520,6 +528,23 @@ contains
             result%stats%regularised = result%stats%regularised + 1
             deallocate (error)
         end do
+    contains
+        !> A singular matrix with frictionless sliding nodes: name them (a body held by
+        !> frictionless contact alone is a mechanism, docs/cards.md CONTACT).
+        subroutine mechanism_hint()
+            logical, allocatable :: sliding(:)
+            sliding = contact%status /= contact_stick .and. contact%placed
+            do c = 1, contact%nc
+                if (model%contact_pairs(contact%pair(c))%friction > 0.0_dp) sliding(c) = .false.
+            end do
+            if (.not. any(sliding)) return
+            error%message = error%message//'; '//to_text(count(sliding))//' slave nodes '// &
+                'of frictionless pairs (MU = 0) slide or are open, the first node '// &
+                to_text(contact%node(findloc(sliding, .true., dim=1)))// &
+                trim(merge(' (slip rows regularised)', '                        ', &
+                           system%viscous > 0.0_dp))//': a body held by frictionless contact '// &
+                'alone is a mechanism (hold it by BOUNDARY cards or give the pair friction)'
+        end subroutine mechanism_hint
     end subroutine factorise_contact
 
     !> Factorise system%values (the symbolic phase once per pattern).
@@ -645,7 +670,9 @@ contains
                                          'iterations stalled at iteration '// &
                                          to_text(iteration - 1)//' (relative residual '// &
                                          real_text(residual)//', tolerance '// &
-                                         real_text(model%tolerance)//')', numerical_error)
+                                         real_text(model%tolerance)//'; largest out-of-'// &
+                                         'balance force at '//worst_node()//')', &
+                                         numerical_error)
                         return
                     end if
                     recent = residual
@@ -654,7 +681,8 @@ contains
                     call fatal_error(error, context//': no convergence after '// &
                                      to_text(model%max_iterations)//' Newton iterations '// &
                                      '(relative residual '//real_text(residual)//', tolerance '// &
-                                     real_text(model%tolerance)//')', numerical_error)
+                                     real_text(model%tolerance)//'; largest out-of-balance '// &
+                                     'force at '//worst_node()//')', numerical_error)
                     return
                 end if
                 ! The consistent tangent: the derivative of the midpoint stress update with
@@ -704,6 +732,13 @@ contains
             call contact_accept(state%contact, du)
         end if
         result%max_residual = max(result%max_residual, residual)
+    contains
+        function worst_node() result(text)
+            character(len=:), allocatable :: text
+            real(dp) :: norm
+            norm = out_of_balance(model, library, state%active, stress_end, f_target, &
+                                  system%dofmap, contact, text)
+        end function worst_node
     end subroutine solve_increment
 
     !> du = du_p + K^-1 (f_target - f_int(stress + D B du_p)) on the free dofs: the prescribed
@@ -1018,16 +1053,19 @@ contains
     end function consistent_tangents
 
     !> |f_target - f_int(stress)| over the free dofs.
-    function out_of_balance(model, library, active, stress, f_target, dofmap, contact) &
-        result(norm)
+    function out_of_balance(model, library, active, stress, f_target, dofmap, contact, &
+                            worst) result(norm)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         logical, intent(in) :: active(:)
         real(dp), intent(in) :: stress(:, :, :), f_target(:, :)
         type(dof_map_t), intent(in) :: dofmap
         type(contact_t), intent(in), optional :: contact
+        !> 'node N (fx, fy kN/m)': the node of the largest out-of-balance force
+        character(len=:), allocatable, intent(out), optional :: worst
         real(dp) :: norm
-        real(dp), allocatable :: f_int(:, :), f_contact(:, :)
+        real(dp), allocatable :: f_int(:, :), f_contact(:, :), r(:, :)
+        integer :: node
         allocate (f_int(2, model%mesh%nnode))
         call internal_forces(model, library, active, stress, f_int)
         if (present(contact)) then
@@ -1035,7 +1073,13 @@ contains
             call contact_forces(contact, f_contact)
             f_int = f_int - f_contact
         end if
-        norm = norm2(merge(f_target - f_int, 0.0_dp, dofmap%eq > 0))
+        r = merge(f_target - f_int, 0.0_dp, dofmap%eq > 0)
+        norm = norm2(r)
+        if (present(worst)) then
+            node = maxloc(norm2(r, dim=1), dim=1)
+            worst = 'node '//to_text(node)//' ('//real_text(r(1, node))//', '// &
+                    real_text(r(2, node))//' kN/m)'
+        end if
     end function out_of_balance
 
     !> After an accepted increment du: total strains since placement, and the laws' history.
