@@ -764,7 +764,7 @@ contains
         logical, allocatable :: held(:), changing(:)
         real(dp) :: t0
         integer :: node, k, c, neq, iteration, earlier, cycling, since
-        logical :: changed
+        logical :: changed, released
         allocate (f_int(2, model%mesh%nnode))
         if (any(du_p /= 0.0_dp)) then
             call internal_forces(model, library, state%active, &
@@ -790,6 +790,7 @@ contains
         iteration = 0
         cycling = 0
         since = 1
+        released = .false.
         do
             iteration = iteration + 1
             if (present(contact)) then
@@ -832,25 +833,26 @@ contains
             t0 = wall_seconds()
             call contact_unpack(contact, x(neq + 1:), system%contact_scale)
             before = 3*contact%status + contact%slip_sign
-            if (present(du_base)) then
-                call contact_update_sets(model, contact, du_base + du, system%contact_scale, &
-                                         changed, cycling > 0, held)
-            else
-                call contact_update_sets(model, contact, du, system%contact_scale, changed, &
-                                         cycling > 0, held)
-            end if
+            call update_sets()
             result%stats%t_contact = result%stats%t_contact + (wall_seconds() - t0)
             result%stats%contact_iterations = result%stats%contact_iterations + 1
-            if (.not. changed) then
-                ! Held nodes: accepted when their tractions break stick by little.
-                if (any(held)) call check_held(error)
-                return
+            if (.not. changed .and. any(held)) then
+                ! Held nodes: accepted when their tractions break stick by little; else
+                ! released once, the iteration going on as without holds.
+                call check_held(error)
+                if (.not. allocated(error) .or. released .or. &
+                    iteration == contact_iteration_limit) return
+                deallocate (error)
+                held = .false.
+                released = .true.
+                call update_sets()
             end if
+            if (.not. changed) return
             seen(:, iteration) = 3*contact%status + contact%slip_sign
             where (seen(:, iteration) /= before) flips = flips + 1
             ! Chatter (a node that keeps changing, never repeating the whole set exactly):
             ! hold it closed in stick (docs/theory.md section 14).
-            if (iteration >= chatter_start .and. &
+            if (iteration >= chatter_start .and. .not. released .and. &
                 any(flips >= chatter_flips .and. .not. held)) then
                 where (flips >= chatter_flips) held = .true.
                 since = iteration
@@ -866,7 +868,7 @@ contains
                         since = iteration
                         exit
                     end if
-                    if (.not. any(changing .and. .not. held)) then
+                    if (released .or. .not. any(changing .and. .not. held)) then
                         call fatal_error(error, context//': no convergence: the contact '// &
                                          'active set cycles at contact iteration '// &
                                          to_text(iteration)//' (it repeats iteration '// &
@@ -893,6 +895,16 @@ contains
             if (allocated(error)) return
         end do
     contains
+        subroutine update_sets()
+            if (present(du_base)) then
+                call contact_update_sets(model, contact, du_base + du, system%contact_scale, &
+                                         changed, cycling > 0, held)
+            else
+                call contact_update_sets(model, contact, du, system%contact_scale, changed, &
+                                         cycling > 0, held)
+            end if
+        end subroutine update_sets
+
         !> The held nodes' excess over their stick conditions against held_tolerance times
         !> the largest contact pressure; counted in the stage's results, or an error.
         subroutine check_held(error)
@@ -909,9 +921,10 @@ contains
             worst = maxloc(excess, dim=1)
             if (excess(worst) > bound) then
                 call fatal_error(error, context//': no convergence: '//to_text(count(held))// &
-                                 ' slave nodes held in stick after chatter or a cycle (contact '// &
-                                 'iteration '//to_text(iteration)//') break their conditions: '// &
-                                 'node '//to_text(contact%node(worst))//' by '// &
+                                 ' slave nodes held in stick after chatter or a cycle '// &
+                                 '(contact iteration '//to_text(iteration)//') break '// &
+                                 'their conditions: node '// &
+                                 to_text(contact%node(worst))//' by '// &
                                  real_text(excess(worst))//' kPa (p '// &
                                  real_text(contact%p(worst))//', q '// &
                                  real_text(contact%q(worst))//' kPa), more than '// &
