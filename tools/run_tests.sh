@@ -102,6 +102,9 @@ tool_checks "ccx staged" python3 tools/ccx_staged.py --cfrd "$cfrd" --workdir "$
 # Frictional contact between non-matching meshes: contact resultants and opened lengths against
 # CalculiX's face-to-face penalty contact (issue 7).
 tool_checks "peer contact" python3 tools/ccx_contact.py --cfrd "$cfrd" --workdir "$work/ccx-contact"
+# Hard cases stay stable (issue 9, section 2): test/hard_cases/*.dat, each converging to a
+# checked answer or stopping with the full diagnostic, no NaN or Inf, earlier results intact.
+tool_checks "hard cases" python3 tools/hard_cases.py --cfrd "$cfrd" --workdir "$work/hard-cases"
 # The E-B law: scipy's integration of it, checked on Kondner's hyperbola, then against
 # cfrd's plane-strain compression of two Table 3 materials.
 tool_checks "eb reference" python3 tools/eb_reference.py --selftest

@@ -24,7 +24,8 @@ module cfrd_stage_driver
     use cfrd_contact, only: contact_t, new_contact, contact_geometry, contact_element_dofs, &
                             contact_element_matrix, contact_rhs, contact_unpack, &
                             contact_update_sets, contact_forces, contact_accept, &
-                            contact_iteration_limit, contact_slip
+                            contact_iteration_limit, contact_slip, contact_stick, &
+                            contact_stick_excess
     use cfrd_contact_results, only: record_contact
     use cfrd_sparse, only: assemble_element
     implicit none
@@ -84,6 +85,15 @@ module cfrd_stage_driver
     !> The slip rows' regularisation when a body held by friction alone slips at every
     !> node (a mechanism of the linearised equations): q = mu p sign - 1e-9 c_n slip.
     real(dp), parameter :: slip_viscosity = 1.0e-9_dp
+    !> A slave node whose status changes this often in one solve chatters: it is held in
+    !> stick (docs/theory.md section 14).
+    integer, parameter :: chatter_flips = 4
+    !> ... once the iteration has run this long without settling (half the limit): the
+    !> chatter of converging iterations is left alone.
+    integer, parameter :: chatter_start = contact_iteration_limit/2
+    !> Held nodes are accepted when no one's excess over its stick conditions (tension, or
+    !> shear beyond mu p) exceeds this fraction of the largest contact pressure.
+    real(dp), parameter :: held_tolerance = 1.0e-3_dp
 
 contains
 
@@ -283,8 +293,13 @@ contains
                                  f_start + f_water + stage_force*(done + step), &
                                  du_stage*step, result, context, error)
             if (allocated(error)) then
-                if (index(error%message, 'no convergence') == 0 .or. &
-                    cuts == max_cutbacks) return
+                if (index(error%message, 'no convergence') == 0) return
+                if (cuts == max_cutbacks) then
+                    error%message = error%message//'; the increment cut back '// &
+                                    to_text(cuts)//' times in a row (to '// &
+                                    fixed_text(step/nominal)//' of its nominal size)'
+                    return
+                end if
                 ! Cutbacks that keep succeeding once and failing again must not run on for
                 ! ever: at most max_growth times the nominal increments per stage.
                 if (k > max_growth*n) then
@@ -503,6 +518,8 @@ contains
             end if
             call factorise_values(system, result, context, error)
             if (.not. allocated(error)) return
+            if (system%viscous > 0.0_dp .or. attempt == 2 .or. &
+                .not. any(contact%status == contact_slip)) call mechanism_hint()
             ! Sliding everywhere, a body held by friction alone is a mechanism of the
             ! linearised equations: regularise the slip rows and try once more.
             if (system%viscous > 0.0_dp .or. .not. any(contact%status == contact_slip) .or. &
@@ -511,6 +528,23 @@ contains
             result%stats%regularised = result%stats%regularised + 1
             deallocate (error)
         end do
+    contains
+        !> A singular matrix with frictionless sliding nodes: name them (a body held by
+        !> frictionless contact alone is a mechanism, docs/cards.md CONTACT).
+        subroutine mechanism_hint()
+            logical, allocatable :: sliding(:)
+            sliding = contact%status /= contact_stick .and. contact%placed
+            do c = 1, contact%nc
+                if (model%contact_pairs(contact%pair(c))%friction > 0.0_dp) sliding(c) = .false.
+            end do
+            if (.not. any(sliding)) return
+            error%message = error%message//'; '//to_text(count(sliding))//' slave nodes '// &
+                'of frictionless pairs (MU = 0) slide or are open, the first node '// &
+                to_text(contact%node(findloc(sliding, .true., dim=1)))// &
+                trim(merge(' (slip rows regularised)', '                        ', &
+                           system%viscous > 0.0_dp))//': a body held by frictionless contact '// &
+                'alone is a mechanism (hold it by BOUNDARY cards or give the pair friction)'
+        end subroutine mechanism_hint
     end subroutine factorise_contact
 
     !> Factorise system%values (the symbolic phase once per pattern).
@@ -636,7 +670,9 @@ contains
                                          'iterations stalled at iteration '// &
                                          to_text(iteration - 1)//' (relative residual '// &
                                          real_text(residual)//', tolerance '// &
-                                         real_text(model%tolerance)//')', numerical_error)
+                                         real_text(model%tolerance)//'; largest out-of-'// &
+                                         'balance force at '//worst_node()//')', &
+                                         numerical_error)
                         return
                     end if
                     recent = residual
@@ -645,7 +681,8 @@ contains
                     call fatal_error(error, context//': no convergence after '// &
                                      to_text(model%max_iterations)//' Newton iterations '// &
                                      '(relative residual '//real_text(residual)//', tolerance '// &
-                                     real_text(model%tolerance)//')', numerical_error)
+                                     real_text(model%tolerance)//'; largest out-of-balance '// &
+                                     'force at '//worst_node()//')', numerical_error)
                     return
                 end if
                 ! The consistent tangent: the derivative of the midpoint stress update with
@@ -695,6 +732,13 @@ contains
             call contact_accept(state%contact, du)
         end if
         result%max_residual = max(result%max_residual, residual)
+    contains
+        function worst_node() result(text)
+            character(len=:), allocatable :: text
+            real(dp) :: norm
+            norm = out_of_balance(model, library, state%active, stress_end, f_target, &
+                                  system%dofmap, contact, text)
+        end function worst_node
     end subroutine solve_increment
 
     !> du = du_p + K^-1 (f_target - f_int(stress + D B du_p)) on the free dofs: the prescribed
@@ -716,10 +760,11 @@ contains
         type(contact_t), intent(inout), optional :: contact
         real(dp), intent(in), optional :: du_base(:, :)
         real(dp), allocatable :: f_int(:, :), b(:), x(:), known(:, :)
-        integer, allocatable :: seen(:, :)
+        integer, allocatable :: seen(:, :), before(:), flips(:)
+        logical, allocatable :: held(:), changing(:)
         real(dp) :: t0
-        integer :: node, k, c, neq, iteration, earlier, cycling
-        logical :: changed
+        integer :: node, k, c, neq, iteration, earlier, cycling, since
+        logical :: changed, released
         allocate (f_int(2, model%mesh%nnode))
         if (any(du_p /= 0.0_dp)) then
             call internal_forces(model, library, state%active, &
@@ -739,9 +784,13 @@ contains
             known = du_p
             if (present(du_base)) known = known + du_base
             allocate (seen(contact%nc, contact_iteration_limit))
+            allocate (flips(contact%nc), source=0)
+            allocate (held(contact%nc), source=.false.)
         end if
         iteration = 0
         cycling = 0
+        since = 1
+        released = .false.
         do
             iteration = iteration + 1
             if (present(contact)) then
@@ -783,45 +832,150 @@ contains
             ! The active set: done when the solve left it as it was.
             t0 = wall_seconds()
             call contact_unpack(contact, x(neq + 1:), system%contact_scale)
-            if (present(du_base)) then
-                call contact_update_sets(model, contact, du_base + du, system%contact_scale, &
-                                         changed, cycling > 0)
-            else
-                call contact_update_sets(model, contact, du, system%contact_scale, changed, &
-                                         cycling > 0)
-            end if
+            before = 3*contact%status + contact%slip_sign
+            call update_sets()
             result%stats%t_contact = result%stats%t_contact + (wall_seconds() - t0)
             result%stats%contact_iterations = result%stats%contact_iterations + 1
-            if (.not. changed) exit
+            if (.not. changed .and. any(held)) then
+                ! Held nodes: accepted when their tractions break stick by little; else
+                ! released once, the iteration going on as without holds.
+                call check_held(error)
+                if (.not. allocated(error) .or. released .or. &
+                    iteration == contact_iteration_limit) return
+                deallocate (error)
+                held = .false.
+                released = .true.
+                call update_sets()
+            end if
+            if (.not. changed) return
             seen(:, iteration) = 3*contact%status + contact%slip_sign
-            do earlier = max(1, cycling), iteration - 1
+            where (seen(:, iteration) /= before) flips = flips + 1
+            ! Chatter (a node that keeps changing, never repeating the whole set exactly):
+            ! hold it closed in stick (docs/theory.md section 14).
+            if (iteration >= chatter_start .and. .not. released .and. &
+                any(flips >= chatter_flips .and. .not. held)) then
+                where (flips >= chatter_flips) held = .true.
+                since = iteration
+            end if
+            do earlier = since, iteration - 1
                 if (all(seen(:, earlier) == seen(:, iteration))) then
-                    ! A cycle: go on changing one node at a time (the worst first), once.
+                    ! A cycle: go on changing one node at a time (the worst first), once;
+                    ! a second one: hold the nodes that change within it, once more.
+                    changing = [(any(seen(c, earlier:iteration) /= seen(c, iteration)), &
+                                 c=1, contact%nc)]
                     if (cycling == 0) then
                         cycling = iteration
+                        since = iteration
                         exit
                     end if
-                    call fatal_error(error, context//': no convergence: the contact '// &
-                                     'active set cycles (iteration '//to_text(iteration)// &
-                                     ' repeats iteration '//to_text(earlier)//'; '// &
-                                     to_text(count(seen(:, earlier) /= seen(:, iteration - 1)))// &
-                                     ' slave nodes change, the first node '// &
-                                     to_text(contact%node(findloc(seen(:, earlier) /= &
-                                     seen(:, iteration - 1), .true., dim=1)))//')', &
-                                     numerical_error)
-                    return
+                    if (released .or. .not. any(changing .and. .not. held)) then
+                        call fatal_error(error, context//': no convergence: the contact '// &
+                                         'active set cycles at contact iteration '// &
+                                         to_text(iteration)//' (it repeats iteration '// &
+                                         to_text(earlier)//') with '// &
+                                         to_text(count(changing))//' slave nodes held; '// &
+                                         worst_text(changing), numerical_error)
+                        return
+                    end if
+                    where (changing) held = .true.
+                    since = iteration
+                    exit
                 end if
             end do
             if (iteration == contact_iteration_limit) then
                 call fatal_error(error, context//': no convergence: the contact active set '// &
-                                 'did not settle in '//to_text(iteration)//' iterations', &
-                                 numerical_error)
+                                 'did not settle in '//to_text(iteration)//' iterations ('// &
+                                 to_text(count(seen(:, iteration) /= before))// &
+                                 ' slave nodes changed in the last, '// &
+                                 to_text(count(held))//' held in stick; '// &
+                                 worst_text(seen(:, iteration) /= before), numerical_error)
                 return
             end if
             call factorise_contact(model, system, contact, result, context, error, .true.)
             if (allocated(error)) return
         end do
+    contains
+        subroutine update_sets()
+            if (present(du_base)) then
+                call contact_update_sets(model, contact, du_base + du, system%contact_scale, &
+                                         changed, cycling > 0, held)
+            else
+                call contact_update_sets(model, contact, du, system%contact_scale, changed, &
+                                         cycling > 0, held)
+            end if
+        end subroutine update_sets
+
+        !> The held nodes' excess over their stick conditions against held_tolerance times
+        !> the largest contact pressure; counted in the stage's results, or an error.
+        subroutine check_held(error)
+            type(error_t), allocatable, intent(out) :: error
+            real(dp), allocatable :: excess(:)
+            real(dp) :: bound
+            integer :: worst
+            allocate (excess(size(held)), source=0.0_dp)
+            do c = 1, contact%nc
+                if (held(c) .and. contact%supported(c)) &
+                    excess(c) = contact_stick_excess(model, contact, c)
+            end do
+            bound = held_tolerance*max(maxval(abs(contact%p)), tiny(1.0_dp))
+            worst = maxloc(excess, dim=1)
+            if (excess(worst) > bound) then
+                call fatal_error(error, context//': no convergence: '//to_text(count(held))// &
+                                 ' slave nodes held in stick after chatter or a cycle '// &
+                                 '(contact iteration '//to_text(iteration)//') break '// &
+                                 'their conditions: node '// &
+                                 to_text(contact%node(worst))//' by '// &
+                                 real_text(excess(worst))//' kPa (p '// &
+                                 real_text(contact%p(worst))//', q '// &
+                                 real_text(contact%q(worst))//' kPa), more than '// &
+                                 real_text(held_tolerance)//' of the largest pressure '// &
+                                 real_text(maxval(abs(contact%p)))//' kPa', numerical_error)
+                return
+            end if
+            result%stats%held = max(result%stats%held, count(held))
+            result%stats%held_excess = max(result%stats%held_excess, &
+                                           excess(worst)/max(maxval(abs(contact%p)), &
+                                                             tiny(1.0_dp)))
+        end subroutine check_held
+
+        !> 'node N (status from -> to, complementarity violation V kPa)' for the node of
+        !> `mask` that violates its conditions most (its excess over stick, or |p| when open).
+        function worst_text(mask) result(text)
+            logical, intent(in) :: mask(:)
+            character(len=:), allocatable :: text
+            real(dp), allocatable :: measure(:)
+            integer :: worst
+            allocate (measure(size(mask)), source=-1.0_dp)
+            do c = 1, contact%nc
+                if (mask(c)) measure(c) = max(contact_stick_excess(model, contact, c), &
+                                              abs(contact%p(c)))
+            end do
+            worst = maxloc(measure, dim=1)
+            text = 'the first of them node '// &
+                   to_text(contact%node(findloc(mask, .true., dim=1)))// &
+                   ', the worst node '//to_text(contact%node(worst))//' (p '// &
+                   real_text(contact%p(worst))//', q '//real_text(contact%q(worst))// &
+                   ' kPa, status '//status_word(before(worst))//' -> '// &
+                   status_word(3*contact%status(worst) + contact%slip_sign(worst))//')'
+        end function worst_text
     end subroutine solve_out_of_balance
+
+    pure function status_word(code) result(word)
+        integer, intent(in) :: code
+        character(len=:), allocatable :: word
+        select case (code)
+        case (0)
+            word = 'open'
+        case (3)
+            word = 'stick'
+        case (5)
+            word = 'slip-'
+        case (7)
+            word = 'slip+'
+        case default
+            word = 'slip'
+        end select
+    end function status_word
 
     !> Strain (or relative displacement) increments of element e for the nodal increment du,
     !> zero-padded to (4, ngauss); ng: the element's integration points.
@@ -912,16 +1066,19 @@ contains
     end function consistent_tangents
 
     !> |f_target - f_int(stress)| over the free dofs.
-    function out_of_balance(model, library, active, stress, f_target, dofmap, contact) &
-        result(norm)
+    function out_of_balance(model, library, active, stress, f_target, dofmap, contact, &
+                            worst) result(norm)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         logical, intent(in) :: active(:)
         real(dp), intent(in) :: stress(:, :, :), f_target(:, :)
         type(dof_map_t), intent(in) :: dofmap
         type(contact_t), intent(in), optional :: contact
+        !> 'node N (fx, fy kN/m)': the node of the largest out-of-balance force
+        character(len=:), allocatable, intent(out), optional :: worst
         real(dp) :: norm
-        real(dp), allocatable :: f_int(:, :), f_contact(:, :)
+        real(dp), allocatable :: f_int(:, :), f_contact(:, :), r(:, :)
+        integer :: node
         allocate (f_int(2, model%mesh%nnode))
         call internal_forces(model, library, active, stress, f_int)
         if (present(contact)) then
@@ -929,7 +1086,13 @@ contains
             call contact_forces(contact, f_contact)
             f_int = f_int - f_contact
         end if
-        norm = norm2(merge(f_target - f_int, 0.0_dp, dofmap%eq > 0))
+        r = merge(f_target - f_int, 0.0_dp, dofmap%eq > 0)
+        norm = norm2(r)
+        if (present(worst)) then
+            node = maxloc(norm2(r, dim=1), dim=1)
+            worst = 'node '//to_text(node)//' ('//real_text(r(1, node))//', '// &
+                    real_text(r(2, node))//' kN/m)'
+        end if
     end function out_of_balance
 
     !> After an accepted increment du: total strains since placement, and the laws' history.

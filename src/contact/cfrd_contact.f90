@@ -23,7 +23,7 @@ module cfrd_contact
     public :: contact_t, new_contact, contact_geometry, contact_element_dofs
     public :: contact_element_matrix, contact_rhs, contact_unpack, contact_update_sets
     public :: contact_forces, contact_accept, contact_open, contact_stick, contact_slip
-    public :: contact_iteration_limit
+    public :: contact_iteration_limit, contact_stick_excess
 
     integer, parameter :: contact_open = 0    !! not in contact (or not placed / unsupported)
     integer, parameter :: contact_stick = 1   !! closed, no slip
@@ -709,13 +709,17 @@ contains
     !> `changed` when any node's status or slip direction changed. (Holding every closed
     !> node in stick while the normal set changes was tried: it cycles when a prescribed
     !> motion drags a body.)
-    pure subroutine contact_update_sets(model, contact, du, scale, changed, one_at_a_time)
+    pure subroutine contact_update_sets(model, contact, du, scale, changed, one_at_a_time, &
+                                       held)
         type(model_t), intent(in) :: model
         type(contact_t), intent(inout) :: contact
         real(dp), intent(in) :: du(:, :), scale
         logical, intent(out) :: changed
         !> change only the node that violates its conditions most (after a cycle)
         logical, intent(in) :: one_at_a_time
+        !> (nc) nodes held closed in stick whatever their conditions say (chatter, cycles:
+        !> docs/theory.md section 14); their violation is checked by the caller
+        logical, intent(in), optional :: held(:)
         real(dp) :: v(2), gap, slip, cn, trial, bound, mu, ptol, violation(contact%nc)
         integer :: c, status(contact%nc), sign_new(contact%nc), worst
         logical :: closed(contact%nc)
@@ -756,6 +760,13 @@ contains
                 end if
             end if
         end do
+        if (present(held)) then
+            where (held .and. contact%supported)
+                status = contact_stick
+                sign_new = 0
+                violation = -1.0_dp
+            end where
+        end if
         if (one_at_a_time) then
             where (status == contact%status .and. sign_new == contact%slip_sign) violation = -1.0_dp
             worst = maxloc(violation, dim=1)
@@ -770,6 +781,18 @@ contains
         contact%status = status
         contact%slip_sign = sign_new
     end subroutine contact_update_sets
+
+    !> How far the tractions of a node in stick break its conditions (kPa): the tension
+    !> max(0, -p) plus the friction beyond the cone max(0, |q| - mu p); 0 when they hold.
+    pure real(dp) function contact_stick_excess(model, contact, c) result(excess)
+        type(model_t), intent(in) :: model
+        type(contact_t), intent(in) :: contact
+        integer, intent(in) :: c
+        real(dp) :: mu
+        mu = model%contact_pairs(contact%pair(c))%friction
+        excess = max(0.0_dp, -contact%p(c)) + &
+                 max(0.0_dp, abs(contact%q(c)) - mu*max(contact%p(c), 0.0_dp))
+    end function contact_stick_excess
 
     !> The forces the contact tractions apply to the nodes (2, nnode), kN/m.
     pure subroutine contact_forces(contact, force)

@@ -258,6 +258,8 @@ contains
         call attr_int(solver_id, 'updates_declined', stage%stats%updates_declined, st)
         call attr_int(solver_id, 'contact_iterations', stage%stats%contact_iterations, st)
         call attr_int(solver_id, 'regularised', stage%stats%regularised, st)
+        call attr_int(solver_id, 'held', stage%stats%held, st)
+        call attr_real(solver_id, 'held_excess', [stage%stats%held_excess], st)
         call close_group(solver_id, st)
         call close_group(stage_id, st)
         if (st%ok) then

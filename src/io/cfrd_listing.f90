@@ -311,6 +311,10 @@ contains
                     sum(all%contact_iterations)
                 write (unit, counts) '   regularised factorisations', st%regularised, &
                     sum(all%regularised)
+                write (unit, counts) '   slave nodes held in stick (most)', st%held, &
+                    maxval(all%held)
+                write (unit, '(a,t40,es12.3,es14.3)') '   held nodes: excess / pressure', &
+                    st%held_excess, maxval(all%held_excess)
             end if
             write (unit, times) '   pattern', st%t_pattern, sum(all%t_pattern), ' s'
             write (unit, times) '   assembly', st%t_assembly, sum(all%t_assembly), ' s'

@@ -37,6 +37,11 @@ module cfrd_results
         integer :: contact_iterations = 0
         !> contact: factorisations whose slip rows were regularised (a body sliding everywhere)
         integer :: regularised = 0
+        !> contact: the most slave nodes held in stick in one solve after chatter or a cycle
+        integer :: held = 0
+        !> contact: the largest excess of a held node over its stick conditions (tension, or
+        !> |q| - mu p), over the largest contact pressure of its solve
+        real(dp) :: held_excess = 0.0_dp
     end type solver_stats_t
 
     !> Along the interface elements (model%interfaces, same order), two stations each (the
