@@ -24,7 +24,7 @@ DECKS ?= $(wildcard inputs/*.dat)
 OUT ?= batch-results
 STUDY ?= inputs/studies/tianshengqiao-joint.dat
 
-.PHONY: run test bench figures batch study references slurm-check deps build build-debug clean
+.PHONY: run test bench accuracy figures batch study references slurm-check deps build build-debug clean
 
 ## deps: install whatever is missing; a second call only checks (well under a second).
 deps:
@@ -82,9 +82,17 @@ slurm-check: build
 	@tools/ensure_deps.sh "$(SLURM_APT_PACKAGES)" ""
 	@tools/slurm_cluster_check.sh bin/cfrd build/slurm-check
 
-## bench: timing figures (see docs/performance.md)
+## bench: timing figures (see docs/performance.md), then the accuracy-cost study
 bench: build
 	@python3 tools/bench.py
+	@$(MAKE) --no-print-directory accuracy
+
+## accuracy: error against wall time of the Tianshengqiao-I decks, one knob at a time
+## (docs/accuracy-cost.md; results cached in build/accuracy, about 10 min from scratch;
+## ACCURACY_FLAGS="--max-refine 4" leaves out the x8 meshes)
+accuracy: build
+	@python3 tools/accuracy_cost.py $(ACCURACY_FLAGS) --markdown build/accuracy/accuracy-cost-tables.md \
+	  --plot-prefix docs/accuracy-cost
 
 clean:
 	rm -rf build bin
