@@ -87,12 +87,13 @@ bench: build
 	@python3 tools/bench.py
 	@$(MAKE) --no-print-directory accuracy
 
-## accuracy: error against wall time of the Tianshengqiao-I decks, one knob at a time
-## (docs/accuracy-cost.md; results cached in build/accuracy, about 10 min from scratch;
-## ACCURACY_FLAGS="--max-refine 4" leaves out the x8 meshes)
+## accuracy: error against wall time of the Tianshengqiao-I decks, one knob at a time;
+## tables and plots in build/accuracy/ (docs/accuracy-cost.md; runs cached there, about
+## 15 min from scratch on a shared 2-core machine; ACCURACY_FLAGS="--max-refine 4" leaves
+## out the x8 meshes, ACCURACY_FLAGS="--doc docs/accuracy-cost.md --plot-prefix
+## docs/accuracy-cost" refreshes the document's tables and plots)
 accuracy: build
-	@python3 tools/accuracy_cost.py $(ACCURACY_FLAGS) --markdown build/accuracy/accuracy-cost-tables.md \
-	  --plot-prefix docs/accuracy-cost
+	@python3 tools/accuracy_cost.py $(ACCURACY_FLAGS)
 
 clean:
 	rm -rf build bin

@@ -67,6 +67,8 @@ QUANTITIES = [  # key, label, unit
     ("sigma", "peak contact stress", "kPa"),
 ]
 OPENINGS = ("w1", "d1", "w2", "d2", "sigma")
+BEGIN = "<!-- BEGIN tables written by tools/accuracy_cost.py --doc -->"
+END = "<!-- END tables written by tools/accuracy_cost.py --doc -->"
 
 
 # ------------------------------------------------------------------------------------------
@@ -345,6 +347,10 @@ def knob_levels(method, max_refine):
 
 
 ORDERED = ("mesh", "increments", "water", "tol")
+# Richardson only with an apparent order of at least this: a lower one says the three levels
+# are not yet in the asymptotic range, and the extrapolation (3 and more times the last
+# difference) would be a guess; the finest level is the reference then.
+MIN_ORDER = 0.7
 
 
 def quantities_of(method):
@@ -369,7 +375,7 @@ def references(method, knob, runs):
         if knob in ("mesh", "increments", "water") and len(ok) == len(runs) and len(vals) >= 3 \
                 and len(vals) == len(ok):
             rich = richardson(*vals[-3:])
-        if rich is not None:
+        if rich is not None and rich[1] >= MIN_ORDER:
             refs[key] = (rich[0], f"Richardson (p = {rich[1]:.2f})")
         else:
             refs[key] = (vals[-1], f"finest ({ok[-1]['label']})")
@@ -408,8 +414,8 @@ def run_study(args):
     for method in methods:
         for knob, label, s in knob_levels(method, args.max_refine):
             plan.append((method, knob, label, s))
-    # cheap runs first: x8 last, Newton x2 just before
-    plan.sort(key=lambda p: (p[3]["refine"] * (10 if p[3]["solver"] == "newton" else 1)))
+    # cheap runs first (estimated cost: elements x 10 for Newton): x8 last
+    plan.sort(key=lambda p: (p[3]["refine"] ** 2 * (10 if p[3]["solver"] == "newton" else 1)))
     done = {}
     for method, knob, label, s in plan:
         name = settings_name(method, s)
@@ -483,9 +489,11 @@ def method_table(method, knobs):
                     v = r.get(k)
                     e = r["err"].get(k)
                     cell = fmt_val(v, unit)
+                    if k in OPENINGS and v == 0.0:
+                        cell = "none"
                     if v is not None and e is not None:
                         cell += f" ({fmt_err(e)})"
-                    elif v is not None and data["refs"].get(k, (None,))[0] == 0.0:
+                    elif v is not None and v != 0.0:
                         cell += " (ref 0)"
                     cells.append(cell)
             lines.append("| " + " | ".join(cells) + " |")
@@ -498,9 +506,16 @@ def method_table(method, knobs):
     return "\n".join(lines)
 
 
+def solves(r):
+    """Deterministic cost of a run: factorisations, Newton and contact iterations."""
+    return r.get("factorisations", 0) + r.get("iterations", 0) + r.get("contact_iterations", 0)
+
+
 def cheapest(method, knobs, tol):
     """Per quantity: for each ordered knob and the solver, the cheapest level whose own error
-    is within tol ('ref' when only the reference run itself is, i.e. not shown)."""
+    is within tol. Mesh, increments and water step are listed coarsest (cheapest) first and
+    the first level within tol is taken (wall times of sub-second runs are noise on a shared
+    machine); the contact TOL, whose levels cost about the same, by the fewest solves."""
     out = {}
     for k, lab, _ in quantities_of(method):
         picks = {}
@@ -509,23 +524,25 @@ def cheapest(method, knobs, tol):
                 continue
             data = knobs[knob]
             runs = data["runs"] if knob != "solver" else data["runs"][0::2]
-            good = [r for r in runs if r["status"] == "ok" and r["err"].get(k) is not None
-                    and r["err"][k] <= tol]
+            ok = [r for r in runs if r["status"] == "ok"]
+            good = [r for r in ok if r["err"].get(k) is not None and r["err"][k] <= tol]
             how = data["refs"].get(k, (None, ""))[1]
+            refv = data["refs"].get(k, (None,))[0]
+            if knob == "tol" and good:
+                good = [min(good, key=solves)]
             if good:
-                best = min(good, key=run_cost)
-                exact_ref = (knob != "solver" and best["err"][k] == 0.0
-                             and not how.startswith("Richardson"))
-                picks[knob] = best["label"] + (" (the reference itself)" if exact_ref else "")
+                best = good[0]
+                last = knob != "solver" and best is ok[-1] and not how.startswith("Richardson")
+                picks[knob] = best["label"] + (" only (the reference)" if last else "")
+            elif knob == "solver":
+                errs = [r["err"].get(k) for r in ok]
+                newton = [r for r in data["runs"][1::2] if r["status"] == "ok"]
+                picks[knob] = ("n/a (no opening)" if all(e is None for e in errs)
+                               else "Newton" if newton else "not reached (Newton failed)")
+            elif refv == 0.0:
+                picks[knob] = "n/a (no opening)"
             else:
-                refv = data["refs"].get(k, (None,))[0]
-                if knob != "solver" and refv == 0.0:
-                    picks[knob] = "reference is 0"
-                elif knob == "solver":
-                    picks[knob] = "Newton" if any(r["status"] == "ok"
-                                                  for r in data["runs"][1::2]) else "-"
-                else:
-                    picks[knob] = "not reached"
+                picks[knob] = "not reached"
         out[k] = picks
     return out
 
@@ -631,7 +648,10 @@ def report(study, total, n_runs, plots, args):
         md.append(f"| {method} | " + " | ".join(d[k] or "none" for k in
                                                 ("mesh", "increments", "water")) + " |")
     md.append("")
-    md += ["Plots: " + ", ".join(f"`{os.path.relpath(p, ROOT)}`" for p in plots), ""]
+    where = os.path.dirname(os.path.abspath(args.doc or args.markdown))
+    for p in plots:
+        method = os.path.basename(p)[:-4].rsplit("-", 1)[-1]
+        md += [f"![{method}: error against wall time]({os.path.relpath(p, where)})", ""]
     return "\n".join(md)
 
 
@@ -647,6 +667,8 @@ def main(argv=None):
     ap.add_argument("--plot-prefix", default=os.path.join(ROOT, "build", "accuracy",
                                                           "accuracy-cost"))
     ap.add_argument("--json", help="also write every run's record here")
+    ap.add_argument("--doc", help="replace the measured part of this markdown file (between "
+                    "its BEGIN and END markers) with the tables, e.g. docs/accuracy-cost.md")
     ap.add_argument("--force", action="store_true", help="rerun cached runs")
     ap.add_argument("--repeat", type=int, default=3,
                     help=f"runs under {REPEAT_BELOW:g} s are made this many times, the fastest kept")
@@ -662,6 +684,12 @@ def main(argv=None):
     os.makedirs(os.path.dirname(os.path.abspath(args.markdown)), exist_ok=True)
     with open(args.markdown, "w") as f:
         f.write(text)
+    if args.doc:
+        with open(args.doc) as f:
+            doc = f.read()
+        i, j = doc.index(BEGIN), doc.index(END)
+        with open(args.doc, "w") as f:
+            f.write(doc[:i + len(BEGIN)] + "\n" + text.rstrip() + "\n" + doc[j:])
     if args.json:
         with open(args.json, "w") as f:
             json.dump(study, f, indent=1, default=str)
