@@ -253,9 +253,11 @@ def run_deck(cfrd, deck, force=False, repeat=3):
     wall, load, done = best
     rec = dict(wall=wall, load1=load, status="ok")
     if done.returncode != 0 or not os.path.exists(h5):
-        msg = (done.stderr.strip().splitlines() or done.stdout.strip().splitlines() or ["?"])
+        msg = [l.strip() for l in (done.stderr + "\n" + done.stdout).splitlines() if l.strip()]
         rec["status"] = "failed"
-        rec["error"] = msg[-1].strip()[:160]
+        # cfrd's diagnostic: the line naming the stage and what failed, and what follows
+        start = max([i for i, l in enumerate(msg) if l.startswith("cfrd:")] or [0])
+        rec["error"] = " ".join(msg[start:start + 4]).split("; stopped")[0][:300] or "?"
     else:
         rec.update(read_results(base))
     with open(meta, "w") as f:
@@ -390,6 +392,7 @@ def errors_for(method, knob, runs):
         refs = references(method, knob, runs)
         for r in runs:
             r["err"] = {k: rel_error(r.get(k), refs.get(k, (None,))[0]) for k, _, _ in qs}
+            r["refval"] = {k: refs.get(k, (None,))[0] for k, _, _ in qs}
         return refs
     # paired knobs: (default choice, other choice) at each mesh; the reference is Newton
     # (solver), LOBATTO (rule), LINEAR (search)
@@ -400,6 +403,8 @@ def errors_for(method, knob, runs):
         for r in (a, b):
             r["err"] = {k: (rel_error(r.get(k), ref.get(k)) if ref["status"] == "ok" and
                             r["status"] == "ok" else None) for k, _, _ in qs}
+            r["refval"] = {k: ref.get(k) if ref["status"] == "ok" else None for k, _, _ in qs}
+            r["ref_failed"] = ref["status"] != "ok"
     for k, _, _ in qs:
         refs[k] = (None, ref_label + " at the same mesh")
     return refs
@@ -493,8 +498,10 @@ def method_table(method, knobs):
                         cell = "none"
                     if v is not None and e is not None:
                         cell += f" ({fmt_err(e)})"
-                    elif v is not None and v != 0.0:
-                        cell += " (ref 0)"
+                    elif r.get("ref_failed"):
+                        cell += " (no ref.)"
+                    elif v is not None and v != 0.0 and r["refval"].get(k) == 0.0:
+                        cell += " (ref. 0)"
                     cells.append(cell)
             lines.append("| " + " | ".join(cells) + " |")
         if knob in ORDERED:
@@ -514,7 +521,7 @@ def solves(r):
 def cheapest(method, knobs, tol):
     """Per quantity: for each ordered knob and the solver, the cheapest level whose own error
     is within tol. Mesh, increments and water step are listed coarsest (cheapest) first and
-    the first level within tol is taken (wall times of sub-second runs are noise on a shared
+    the first level from which on every level is within tol is taken (wall times of sub-second runs are noise on a shared
     machine); the contact TOL, whose levels cost about the same, by the fewest solves."""
     out = {}
     for k, lab, _ in quantities_of(method):
@@ -525,7 +532,14 @@ def cheapest(method, knobs, tol):
             data = knobs[knob]
             runs = data["runs"] if knob != "solver" else data["runs"][0::2]
             ok = [r for r in runs if r["status"] == "ok"]
-            good = [r for r in ok if r["err"].get(k) is not None and r["err"][k] <= tol]
+            within = [r["err"].get(k) is not None and r["err"][k] <= tol for r in ok]
+            if knob in ("mesh", "increments", "water"):
+                # the coarsest level from which on every finer level stays within tol (a
+                # non-monotone sequence can pass through the reference by chance)
+                stay = [all(within[i:]) for i in range(len(ok))]
+                good = [r for r, g in zip(ok, stay) if g]
+            else:
+                good = [r for r, g in zip(ok, within) if g]
             how = data["refs"].get(k, (None, ""))[1]
             refv = data["refs"].get(k, (None,))[0]
             if knob == "tol" and good:
@@ -537,14 +551,18 @@ def cheapest(method, knobs, tol):
             elif knob == "solver":
                 errs = [r["err"].get(k) for r in ok]
                 newton = [r for r in data["runs"][1::2] if r["status"] == "ok"]
-                picks[knob] = ("n/a (no opening)" if all(e is None for e in errs)
-                               else "Newton" if newton else "not reached (Newton failed)")
+                picks[knob] = ("- (Newton failed)" if not newton
+                               else "n/a (no opening)" if all(e is None for e in errs)
+                               else "Newton")
             elif refv == 0.0:
                 picks[knob] = "n/a (no opening)"
             else:
                 picks[knob] = "not reached"
         out[k] = picks
     return out
+
+
+FLOOR = 1e-5
 
 
 def plot(study, prefix):
@@ -562,20 +580,25 @@ def plot(study, prefix):
         for ax, (k, lab, unit) in zip(axes.ravel(), qs):
             floor = None
             for knob, data in knobs.items():
-                pts = [(r["wall"], r["err"].get(k)) for r in data["runs"]
+                pts = [(r["wall"], max(FLOOR, r["err"][k])) for r in data["runs"]
                        if r["status"] == "ok" and r["err"].get(k)]
+                fails = [r["wall"] for r in data["runs"] if r["status"] != "ok"]
+                if fails:
+                    ax.plot(fails, [1.0] * len(fails), "x", color=colours[knob], ms=9,
+                            label=f"{knob}: failed")
                 if not pts:
                     continue
                 t, e = zip(*pts)
                 ax.loglog(t, e, "o-" if knob in ORDERED else "s", color=colours[knob],
                           label=knob, ms=4)
-                fails = [r["wall"] for r in data["runs"] if r["status"] != "ok"]
-                if fails:
-                    lo = min(e)
-                    ax.plot(fails, [lo] * len(fails), "x", color=colours[knob], ms=8)
                 floor = min(e) if floor is None else min(floor, min(e))
             for level in (0.01, 0.05):
                 ax.axhline(level, color="0.6", lw=0.7, ls="--")
+            d = knobs["mesh"]["runs"][0]          # the default deck
+            if d["status"] == "ok" and d["err"].get(k):
+                ax.plot([d["wall"]], [max(FLOOR, d["err"][k])], "*", color="k", ms=11,
+                        zorder=5, label="default deck (mesh error)")
+            ax.set_ylim(bottom=FLOOR / 2)
             ax.set_title(lab, fontsize=9)
             ax.set_xlabel("wall time (s)", fontsize=8)
             ax.set_ylabel("relative error", fontsize=8)
@@ -589,10 +612,12 @@ def plot(study, prefix):
                 if l not in labels:
                     handles.append(h)
                     labels.append(l)
-        fig.legend(handles, labels, loc="lower right", fontsize=8)
-        fig.suptitle(f"Tianshengqiao-I, {method}: error against wall time, one knob at a time "
-                     f"(dashed: 1 % and 5 %; x: failed run)", fontsize=10)
-        fig.tight_layout(rect=(0, 0, 1, 0.95))
+        fig.legend(handles, labels, loc="lower center", ncol=min(len(labels), 8), fontsize=8)
+        fig.suptitle(f"Tianshengqiao-I, {method}: relative error against wall time, one knob "
+                     f"at a time (dashed: 1 % and 5 %; x at 1: failed run; errors below "
+                     f"{FLOOR:g} drawn at {FLOOR:g}; zero errors, the references, not drawn)",
+                     fontsize=10)
+        fig.tight_layout(rect=(0, 0.05, 1, 0.95))
         path = f"{prefix}-{method}.png"
         os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
         fig.savefig(path, dpi=90)
@@ -602,17 +627,18 @@ def plot(study, prefix):
 
 
 def knees(study):
-    """{method: {knob: label of the knee}} on each ordered knob's worst error (the largest
-    relative error over the method's quantities)."""
+    """{method: {quantity: {knob: label of the knee}}}: each ordered knob's error against
+    wall time, per quantity (the references, error 0, left out)."""
     out = {}
     for method, knobs in study.items():
         out[method] = {}
-        for knob in ("mesh", "increments", "water"):
-            runs = [r for r in knobs[knob]["runs"] if r["status"] == "ok"]
-            pts = [(r["wall"], worst(method, r)) for r in runs]
-            keep = [(i, p) for i, p in enumerate(pts) if p[1]]
-            k = knee([p for _, p in keep])
-            out[method][knob] = runs[keep[k][0]]["label"] if k is not None else None
+        for k, _, _ in quantities_of(method):
+            out[method][k] = {}
+            for knob in ("mesh", "increments", "water"):
+                runs = [r for r in knobs[knob]["runs"] if r["status"] == "ok"
+                        and r["err"].get(k)]
+                i = knee([(r["wall"], r["err"][k]) for r in runs])
+                out[method][k][knob] = runs[i]["label"] if i is not None else None
     return out
 
 
@@ -624,8 +650,9 @@ def report(study, total, n_runs, plots, args):
     for method, knobs in study.items():
         md += [f"#### {method}", "", method_table(method, knobs), ""]
     md += ["#### Cheapest settings per quantity", "",
-           "Per knob, the cheapest level whose own error is within 1 % / 5 % (the other knobs "
-           "at the default).", ""]
+           "Per knob, the cheapest level from which on its own error stays within 1 % / 5 % "
+           "(mesh, increments, water step; the solver: midpoint where it is within the "
+           "tolerance of Newton on the same mesh), the other knobs at the default.", ""]
     for tol in (0.01, 0.05):
         md += [f"**Within {100 * tol:.0f} %**", "",
                "| method | quantity | mesh | increments | water step | solver |"
@@ -642,11 +669,15 @@ def report(study, total, n_runs, plots, args):
                 md.append("| " + " | ".join(cells) + " |")
         md.append("")
     kn = knees(study)
-    md += ["#### Knees (worst error over the quantities against wall time)", "",
-           "| method | mesh | increments | water step |", "|:---|:---|:---|:---|"]
+    md += ["#### Knees", "",
+           "Per quantity, the knee of each knob's error against wall time (log-log; the point "
+           "farthest below the chord from the cheapest to the dearest point with a non-zero "
+           "error; `-`: fewer than three such points, or none below the chord).", "",
+           "| method | quantity | mesh | increments | water step |", "|:---|:---|:---|:---|:---|"]
     for method, d in kn.items():
-        md.append(f"| {method} | " + " | ".join(d[k] or "none" for k in
-                                                ("mesh", "increments", "water")) + " |")
+        for k, lab, _ in quantities_of(method):
+            md.append(f"| {method} | {lab} | " + " | ".join(
+                d[k][kb] or "-" for kb in ("mesh", "increments", "water")) + " |")
     md.append("")
     where = os.path.dirname(os.path.abspath(args.doc or args.markdown))
     for p in plots:
