@@ -24,15 +24,21 @@ that grows without bound as the mesh is refined, docs/tianshengqiao.md section 8
 
 Errors are relative, against each knob's own reference: a Richardson extrapolation of the
 three finest levels of an ordered knob (mesh, increments, water step; refinement ratio 2)
-when they converge monotonically, else the finest level that ran; Newton for the solver;
-LOBATTO for the rule, LINEAR for the search (these two are sensitivities, not errors).
+when they converge monotonically with an apparent order of at least 0.7, else the finest
+level that ran; Newton for the solver; LOBATTO for the rule, LINEAR for the search (these
+two are sensitivities, not errors). A failed run is reported as failed, with cfrd's message.
 
-One cfrd process at a time (the machine is shared). Results are cached: a run whose HDF5
-(or recorded failure) is newer than its deck is not run again (--force reruns).
+One cfrd process at a time (the machine is shared); runs under 5 s are made three times and
+the fastest kept. Results are cached: a run whose HDF5 (or recorded failure) is newer than
+its deck, made by the same cfrd program (sha256), is not run again (--force reruns); a deck
+is rewritten only when its text changes.
+
+Output: the tables (markdown) and one plot per method, error against wall time, log-log,
+one curve per knob; --doc FILE also replaces the measured part of docs/accuracy-cost.md.
 
     python3 tools/accuracy_cost.py [--cfrd bin/cfrd] [--workdir build/accuracy]
         [--max-refine 8] [--methods bonded,joint,thin,contact] [--markdown FILE]
-        [--plot-prefix docs/accuracy-cost] [--force]
+        [--plot-prefix PREFIX] [--doc docs/accuracy-cost.md] [--force] [--repeat 3]
     python3 tools/accuracy_cost.py --selftest      # the arithmetic, on closed forms
 """
 
@@ -221,6 +227,16 @@ def load1():
         return float("nan")
 
 
+def program_hash(path, _memo={}):
+    """sha256 of the cfrd program: a cached run counts only for the program that made it
+    (`make build` rewrites bin/cfrd's time stamp on every call, not its bytes)."""
+    if path not in _memo:
+        import hashlib
+        with open(path, "rb") as f:
+            _memo[path] = hashlib.sha256(f.read()).hexdigest()
+    return _memo[path]
+
+
 REPEAT_BELOW = 5.0     # s: runs shorter than this are repeated, the fastest kept
 
 
@@ -231,10 +247,13 @@ def run_deck(cfrd, deck, force=False, repeat=3):
     base = deck[:-4]
     h5, meta = base + ".h5", base + ".run.json"
     t_deck = os.path.getmtime(deck)
+    program = program_hash(cfrd)
     if not force and os.path.exists(meta) and os.path.getmtime(meta) >= t_deck:
         with open(meta) as f:
             rec = json.load(f)
-        if rec["status"] != "ok" or (os.path.exists(h5) and os.path.getmtime(h5) >= t_deck):
+        fresh = rec.get("cfrd_sha256") == program
+        if fresh and (rec["status"] != "ok" or (os.path.exists(h5)
+                                                and os.path.getmtime(h5) >= t_deck)):
             rec["cached"] = True
             return rec
     for old in (h5, base + "-openings.csv"):
@@ -251,7 +270,7 @@ def run_deck(cfrd, deck, force=False, repeat=3):
         if done.returncode != 0 or wall > REPEAT_BELOW:
             break
     wall, load, done = best
-    rec = dict(wall=wall, load1=load, status="ok")
+    rec = dict(wall=wall, load1=load, status="ok", cfrd_sha256=program)
     if done.returncode != 0 or not os.path.exists(h5):
         msg = [l.strip() for l in (done.stderr + "\n" + done.stdout).splitlines() if l.strip()]
         rec["status"] = "failed"
@@ -463,15 +482,6 @@ def fmt_err(e):
     if e == 0:
         return "0"
     return f"{100 * e:.2g} %" if e < 0.1 else f"{100 * e:.0f} %"
-
-
-def run_cost(r):
-    return r["wall"]
-
-
-def worst(method, r):
-    errs = [e for k, e in (r.get("err") or {}).items() if e is not None]
-    return max(errs) if errs else None
 
 
 def method_table(method, knobs):
