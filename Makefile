@@ -24,7 +24,7 @@ DECKS ?= $(wildcard inputs/*.dat)
 OUT ?= batch-results
 STUDY ?= inputs/studies/tianshengqiao-joint.dat
 
-.PHONY: run test bench accuracy figures batch study references slurm-check deps build build-debug clean
+.PHONY: run test bench figures batch study references slurm-check deps build build-debug clean
 
 ## deps: install whatever is missing; a second call only checks (well under a second).
 deps:
@@ -92,6 +92,7 @@ bench: build
 ## 15 min from scratch on a shared 2-core machine; ACCURACY_FLAGS="--max-refine 4" leaves
 ## out the x8 meshes, ACCURACY_FLAGS="--doc docs/accuracy-cost.md --plot-prefix
 ## docs/accuracy-cost" refreshes the document's tables and plots)
+.PHONY: accuracy
 accuracy: build
 	@python3 tools/accuracy_cost.py $(ACCURACY_FLAGS)
 
