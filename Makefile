@@ -82,7 +82,8 @@ slurm-check: build
 	@tools/ensure_deps.sh "$(SLURM_APT_PACKAGES)" ""
 	@tools/slurm_cluster_check.sh bin/cfrd build/slurm-check
 
-## bench: timing figures (see docs/performance.md), then the accuracy-cost study
+## bench: timing figures (see docs/performance.md)
+## and then the accuracy-cost study (make accuracy, below)
 bench: build
 	@python3 tools/bench.py
 	@$(MAKE) --no-print-directory accuracy
