@@ -364,7 +364,28 @@ def knob_levels(method, max_refine):
         for r in (1, 2):
             add("rule", f"LOBATTO x{r}", refine=r)
             add("rule", f"GAUSS x{r}", refine=r, rule="GAUSS")
+    # knobs together, at the knees (docs/accuracy-cost.md), against the best estimate
+    add("combined", "x2, 2/layer, 5 m", refine=2, inc=2, step=5.0)
+    if method == "contact" and max_refine >= 4:
+        add("combined", "x4, 2/layer, 5 m", refine=4, inc=2, step=5.0)
     return out
+
+
+def best_estimate(method, knobs):
+    """The converged value of each quantity to first order, the knobs' errors adding: the
+    mesh reference plus the increments' and the water step's corrections at x1 (reference
+    minus the default run). No solver correction: the midpoint method's out-of-balance
+    vanishes as the increments are refined, so the increments' reference includes it."""
+    default = knobs["mesh"]["runs"][0]
+    best = {}
+    for k, _, _ in quantities_of(method):
+        parts = [knobs[kn]["refs"].get(k, (None,))[0] for kn in ("mesh", "increments", "water")]
+        d = default.get(k) if default["status"] == "ok" else None
+        if d is None or any(p is None for p in parts):
+            best[k] = None
+            continue
+        best[k] = parts[0] + (parts[1] - d) + (parts[2] - d)
+    return best
 
 
 ORDERED = ("mesh", "increments", "water", "tol")
@@ -459,7 +480,16 @@ def run_study(args):
             rec["settings"] = s
             study[method].setdefault(knob, []).append(rec)
         for knob, runs in study[method].items():
-            study[method][knob] = dict(runs=runs, refs=errors_for(method, knob, runs))
+            if knob != "combined":
+                study[method][knob] = dict(runs=runs, refs=errors_for(method, knob, runs))
+        runs = study[method].pop("combined")
+        best = best_estimate(method, study[method])
+        for r in runs:
+            r["err"] = {k: rel_error(r.get(k), best[k]) if r["status"] == "ok" else None
+                        for k, _, _ in quantities_of(method)}
+            r["refval"] = dict(best)
+        study[method]["combined"] = dict(runs=runs, refs={k: (v, "best estimate")
+                                                          for k, v in best.items()})
     total = sum(r["wall"] for r in done.values())
     return study, total, time.perf_counter() - t_start, len(done)
 
@@ -514,8 +544,9 @@ def method_table(method, knobs):
                         cell += " (ref. 0)"
                     cells.append(cell)
             lines.append("| " + " | ".join(cells) + " |")
-        if knob in ORDERED:
-            cells = [knob, "**reference**", "", "", "", "", ""]
+        if knob in ORDERED or knob == "combined":
+            cells = [knob, "**reference**" if knob != "combined" else "**best estimate**",
+                     "", "", "", "", ""]
             for k, _, unit in qs:
                 v, how = data["refs"].get(k, (None, ""))
                 cells.append(fmt_val(v, unit) + (" R" if how.startswith("Richardson") else ""))
@@ -581,7 +612,7 @@ def plot(study, prefix):
     import matplotlib.pyplot as plt
     paths = []
     colours = {"mesh": "C0", "increments": "C1", "water": "C2", "solver": "C3", "tol": "C4",
-               "search": "C5", "rule": "C6"}
+               "search": "C5", "rule": "C6", "combined": "C8"}
     for method, knobs in study.items():
         qs = quantities_of(method)
         ncol = 4
@@ -599,7 +630,8 @@ def plot(study, prefix):
                 if not pts:
                     continue
                 t, e = zip(*pts)
-                ax.loglog(t, e, "o-" if knob in ORDERED else "s", color=colours[knob],
+                ax.loglog(t, e, "o-" if knob in ORDERED else "D" if knob == "combined" else "s",
+                          color=colours[knob],
                           label=knob, ms=4)
                 floor = min(e) if floor is None else min(floor, min(e))
             for level in (0.01, 0.05):
