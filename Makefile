@@ -91,8 +91,19 @@ fuzz: build
 	  --workdir build/fuzz/run
 
 ## bench: timing figures (see docs/performance.md)
+## and then the accuracy-cost study (make accuracy, below)
 bench: build
 	@python3 tools/bench.py
+	@$(MAKE) --no-print-directory accuracy
+
+## accuracy: error against wall time of the Tianshengqiao-I decks, one knob at a time;
+## tables and plots in build/accuracy/ (docs/accuracy-cost.md; runs cached there, about
+## 15 min from scratch on a shared 2-core machine; ACCURACY_FLAGS="--max-refine 4" leaves
+## out the x8 meshes, ACCURACY_FLAGS="--doc docs/accuracy-cost.md --plot-prefix
+## docs/accuracy-cost" refreshes the document's tables and plots)
+.PHONY: accuracy
+accuracy: build
+	@python3 tools/accuracy_cost.py $(ACCURACY_FLAGS)
 
 clean:
 	rm -rf build bin

@@ -121,6 +121,9 @@ tool_checks "figures" python3 tools/check_figures.py --run "$cfrd" --workdir "$w
 # The zig-zag measure of tools/interface_zigzag.py (docs/tianshengqiao.md section 7.4) on
 # closed forms.
 tool_checks "interface zigzag" python3 tools/interface_zigzag.py --selftest
+# The arithmetic of the accuracy-cost study (docs/accuracy-cost.md): Richardson extrapolation
+# of f(h) = f0 + c h^p (f0 and p to 1e-12), the refusal of non-monotone sequences, the knee.
+tool_checks "accuracy cost" python3 tools/accuracy_cost.py --selftest
 
 # 4. Results people use: batch runs, parametric studies and their Slurm arrays; the
 # comparison tool; the regression suite (every deck in inputs/ against outputs/reference/).
