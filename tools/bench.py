@@ -448,27 +448,24 @@ def main(argv=None):
     args = ap.parse_args(argv)
     tsq = [int(x) for x in args.tsq_refine.split(",") if x.strip()]
     ifr = [int(x) for x in args.interface_refine.split(",") if x.strip()]
+    def only(title, bench):
+        """One table alone: printed, and as markdown to --markdown."""
+        os.makedirs(args.workdir, exist_ok=True)
+        t, m = bench()
+        print(machine())
+        print(title)
+        print(t)
+        if args.markdown:
+            with open(args.markdown, "w") as f:
+                f.write(f"Machine: {machine()}.\n\n{m}\n")
+        return 0
     if args.only_interfaces:
-        os.makedirs(args.workdir, exist_ok=True)
-        t, m = bench_interfaces(args.cfrd, ifr, args.workdir, args.repeat)
-        print(machine())
-        print("(e) Tianshengqiao-I, interface methods")
-        print(t)
-        if args.markdown:
-            with open(args.markdown, "w") as f:
-                f.write(f"Machine: {machine()}.\n\n{m}\n")
-        return 0
+        return only("(e) Tianshengqiao-I, interface methods",
+                    lambda: bench_interfaces(args.cfrd, ifr, args.workdir, args.repeat))
     if args.only_tianshengqiao:
-        os.makedirs(args.workdir, exist_ok=True)
-        t, m = bench_tianshengqiao(args.cfrd, tsq, args.workdir, args.repeat,
-                                   args.tsq_newton_max)
-        print(machine())
-        print("(d) Tianshengqiao-I, 1996-1999 history")
-        print(t)
-        if args.markdown:
-            with open(args.markdown, "w") as f:
-                f.write(f"Machine: {machine()}.\n\n{m}\n")
-        return 0
+        return only("(d) Tianshengqiao-I, 1996-1999 history",
+                    lambda: bench_tianshengqiao(args.cfrd, tsq, args.workdir, args.repeat,
+                                                args.tsq_newton_max))
     sizes = [int(s) for s in args.sizes.split(",") if s.strip()]
     os.makedirs(args.workdir, exist_ok=True)
     cfrd = args.cfrd if os.access(args.cfrd, os.X_OK) else None

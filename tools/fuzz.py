@@ -168,26 +168,24 @@ def replace_field(line, m, value):
     return line[:begin] + value + line[end:]
 
 
-def mutate_range(data, rng):
+def mutate_field(data, rng, values):
+    """One numeric field replaced by one of `values` (a deck without one: a dropped card)."""
     picked = pick_field(data, rng)
     if picked is None:
         return mutate_drop(data, rng)
     lines, trailing, i, m = picked
-    value = rng.choice(RANGE_VALUES)
+    value = rng.choice(values)
     lines[i] = replace_field(lines[i], m, value)
     return join_lines(lines, trailing), (f"line {i + 1} columns {m.start() + 1}-{m.end()}: "
                                          f"{m.group().decode()} -> {value.decode()}")
+
+
+def mutate_range(data, rng):
+    return mutate_field(data, rng, RANGE_VALUES)
 
 
 def mutate_text(data, rng):
-    picked = pick_field(data, rng)
-    if picked is None:
-        return mutate_drop(data, rng)
-    lines, trailing, i, m = picked
-    value = rng.choice(TEXT_VALUES)
-    lines[i] = replace_field(lines[i], m, value)
-    return join_lines(lines, trailing), (f"line {i + 1} columns {m.start() + 1}-{m.end()}: "
-                                         f"{m.group().decode()} -> {value.decode()}")
+    return mutate_field(data, rng, TEXT_VALUES)
 
 
 def mutate_truncate(data, rng):

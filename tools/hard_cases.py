@@ -429,9 +429,6 @@ def check_rockfill(c, cfrd, work):
     c.verdict("rockfill/tension-and-cap", tension >= 1 and abs(level - 0.99) < 1e-12,
               f"{tension} elements in tension (largest principal stress > 0), stress level "
               f"{level:.6f}: capped at the law's 0.99 (docs/theory.md section 8)")
-    layers = [st for st in r.stages[:3]]
-    top_s3 = [float(np.max(st["principal"][6:9, 0])) if st["principal"].shape[0] > 8 else 0.0
-              for st in layers]
     e = float(np.max(np.abs(s["reaction_sum"] + s["applied"])) / np.max(np.abs(s["applied"])))
     c.verdict("rockfill/equilibrium", e <= 1e-6,
               f"reactions balance the weight and the pull (statics; Newton to 1e-8): "
