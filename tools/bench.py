@@ -12,7 +12,12 @@
     process wall time, time per dof, and the maximum settlement (mesh convergence); the
     Newton variant up to --tsq-newton-max.
 
+(e) Tianshengqiao-I with each interface method on the same body mesh.
+(f) The joint and contact decks with the effects of the EFFECTS card switched on one at a
+    time over a base with all of them off: time, memory, factorisations, contact searches.
+
   python3 tools/bench.py --only-tianshengqiao      # table (d) alone
+  python3 tools/bench.py --only-effects --repeat 5 # table (f) alone
 
   python3 tools/bench.py [--cfrd bin/cfrd] [--workdir build/bench] [--repeat 1]
                          [--sizes 1000,10000,100000] [--markdown FILE] [--no-ccx]
@@ -423,6 +428,76 @@ def bench_interfaces(cfrd, refinements, workdir, repeat,
     return table(header, cells, "llrrrrrrrrrrrr")
 
 
+# (f) Only the effects a deck asks for: the EFFECTS card (docs/cards.md), each effect switched
+# on alone over a base with all of them off. UNLOAD acts only on the nonlinear law, so its row
+# switches both on.
+EFFECT_FIELDS = ("ROCKFILL", "UNLOAD", "WATER", "INTERFACE", "FRICTION", "SLIP", "PHASES")
+EFFECT_OFF = dict(ROCKFILL="LINEAR", UNLOAD="OFF", WATER="OFF", INTERFACE="BONDED",
+                  FRICTION="OFF", SLIP="SMALL", PHASES="OFF")
+EFFECT_ROWS = (("all off", ()), ("+ nonlinear rockfill", ("ROCKFILL",)),
+               ("+ unload-reload", ("ROCKFILL", "UNLOAD")), ("+ water", ("WATER",)),
+               ("+ joints", ("INTERFACE",)), ("+ friction", ("FRICTION",)),
+               ("+ large slip", ("SLIP",)), ("+ slab phases", ("PHASES",)),
+               ("all on (the deck)", EFFECT_FIELDS))
+
+
+def effects_deck(text, on, applies):
+    """The deck with an EFFECTS card: the fields in `applies` off unless named in `on`."""
+    card = "EFFECTS   " + "".join(
+        f"{'' if k in on or k not in applies else EFFECT_OFF[k]:<10s}" for k in EFFECT_FIELDS)
+    lines = text.split("\n")
+    k = lines.index("CONTROL")
+    return "\n".join(lines[:k + 1] + [card] + lines[k + 1:])
+
+
+def bench_effects(cfrd, refinements, workdir, repeat):
+    """(f) The joint and contact decks of Tianshengqiao-I with the effects switched on one at
+    a time: process wall time (minimum of `repeat`), peak memory, and what the analysis did
+    (increments, numeric factorisations, contact searches, the time in the contact code)."""
+    import h5py
+    gen = os.path.join(HERE, "tianshengqiao.py")
+    applies = dict(joint=("ROCKFILL", "UNLOAD", "WATER", "INTERFACE", "PHASES"),
+                   contact=("ROCKFILL", "UNLOAD", "WATER", "FRICTION", "SLIP", "PHASES"))
+    cells = []
+    for r in refinements:
+        for interface in ("joint", "contact"):
+            base = os.path.join(workdir, f"effects-x{r}-{interface}.dat")
+            import subprocess
+            subprocess.run([sys.executable, gen, "--refine", str(r), "--interface", interface,
+                            "--deck", base], check=True)
+            with open(base) as f:
+                text = f.read()
+            for label, on in EFFECT_ROWS:
+                if any(k not in applies[interface] for k in on) and on != EFFECT_FIELDS:
+                    continue
+                deck = os.path.join(workdir, f"effects-x{r}-{interface}-{len(cells)}.dat")
+                with open(deck, "w") as f:
+                    f.write(effects_deck(text, on, applies[interface]))
+                try:
+                    (wall, rss, h5), rss = repeat_run(
+                        lambda: peer.run_cfrd(cfrd, deck, workdir), repeat)
+                except (peer.RunError, OSError) as exc:
+                    cells.append([f"x{r}", interface, label] + ["-"] * 6
+                                 + [f"failed: {str(exc)[:60]}"])
+                    continue
+                with h5py.File(h5) as f:
+                    st = [f["stages"][k] for k in sorted(f["stages"])]
+                    sv = [g["solver"].attrs for g in st]
+                    inc = sum(int(g.attrs["increments"]) for g in st)
+                    fact = sum(int(a["numeric_factorisations"]) for a in sv)
+                    searches = sum(int(a.get("searches", 0)) for a in sv)
+                    t_contact = sum(float(a.get("t_contact", 0.0)) for a in sv)
+                    analysis = float(np.ravel(f["run"].attrs["wall_time"])[0])
+                cells.append([f"x{r}", interface, label, str(len(st)), str(inc), str(fact),
+                              str(searches), f"{t_contact:.3f}", sec(analysis), sec(wall),
+                              mb(rss)])
+                print(f"  effects x{r} {interface} {label}: {sec(wall)} s", file=sys.stderr,
+                      flush=True)
+    header = ["mesh", "deck", "effects", "stages", "increments", "factorisations", "searches",
+              "contact s", "analysis s", "process s", "peak MB"]
+    return table(header, cells, "lllrrrrrrrr")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--cfrd", default=os.path.join(ROOT, "bin", "cfrd"))
@@ -445,9 +520,13 @@ def main(argv=None):
                     help="Tianshengqiao-I refinements for table (e), the interface methods"
                          " (empty: skip)")
     ap.add_argument("--only-interfaces", action="store_true", help="table (e) only")
+    ap.add_argument("--effects-refine", default="1,2",
+                    help="Tianshengqiao-I refinements for table (f), the effects (empty: skip)")
+    ap.add_argument("--only-effects", action="store_true", help="table (f) only")
     args = ap.parse_args(argv)
     tsq = [int(x) for x in args.tsq_refine.split(",") if x.strip()]
     ifr = [int(x) for x in args.interface_refine.split(",") if x.strip()]
+    efr = [int(x) for x in args.effects_refine.split(",") if x.strip()]
     def only(title, bench):
         """One table alone: printed, and as markdown to --markdown."""
         os.makedirs(args.workdir, exist_ok=True)
@@ -459,6 +538,9 @@ def main(argv=None):
             with open(args.markdown, "w") as f:
                 f.write(f"Machine: {machine()}.\n\n{m}\n")
         return 0
+    if args.only_effects:
+        return only("(f) Tianshengqiao-I, the effects switched on one at a time",
+                    lambda: bench_effects(args.cfrd, efr, args.workdir, args.repeat))
     if args.only_interfaces:
         return only("(e) Tianshengqiao-I, interface methods",
                     lambda: bench_interfaces(args.cfrd, ifr, args.workdir, args.repeat))
@@ -519,6 +601,12 @@ def main(argv=None):
         out_text += ["", "(e) Tianshengqiao-I, the interface methods on the same body mesh", t]
         out_md += ["**(e) Tianshengqiao-I, the interface methods** (bonded, Goodman joints, "
                    "contact; the same body mesh; sums over the stages).", "", m, ""]
+    if cfrd and efr:
+        t, m = bench_effects(cfrd, efr, args.workdir, args.repeat)
+        out_text += ["", "(f) Tianshengqiao-I, the effects switched on one at a time", t]
+        out_md += ["**(f) Tianshengqiao-I, the effects switched on one at a time** (the "
+                   "EFFECTS card; the joint and contact decks of the same body mesh).", "",
+                   m, ""]
     print("\n".join(out_text))
     if args.markdown:
         with open(args.markdown, "w") as f:

@@ -75,7 +75,7 @@ cases = [
  ("missing-element", sub("    6    2    1\n", "    6         1\n").replace("    1    1    2    5    4    1    1    1 SOIL\n", "    1    1    2    5    4    1\n    3    2    3    6    5    1\n"), "{f}:8: missing element 2 (elements must be numbered 1 to 3 without gaps)"),
  ("duplicate-material", sub("BOUNDARY\n", "    1ELASTIC   again\n   30000.0       0.3      20.0\nBOUNDARY\n"), "{f}:13: duplicate material 1 (first defined at line 11)"),
  ("title-data-card", sub("TITLE     bad deck\n", "TITLE     bad deck\n    1\n"), "{f}:3: TITLE takes no data cards"),
- ("control-two-cards", sub("    6    2    1\n", "    6    2    1\n    6    2    1\n"), "{f}:3: CONTROL takes one data card (or none for all defaults), found 2"),
+ ("control-two-cards", sub("    6    2    1\n", "    6    2    1\n    6    2    1\n"), "{f}:5: CONTROL takes one card of numbers and one EFFECTS card (the card of numbers is at line 4)"),
  ("value-without-code", sub("    1    3    1    1    1\n", "    1    3    1    0    1       0.1\n"), "{f}:14:26-35: field UX of BOUNDARY 1: expected blank: a prescribed value needs IX = 1, found '0.1'"),
  ("unknown-load-set", sub("GRAVITY\n", "GRAVITY\nSTAGES\n&LOAD, WIND\n"), "{f}:18:8-11: field SET of STAGES LOAD: expected blank (the unnamed LOADS) or the name of a LOADS group, found 'WIND'"),
  ("unknown-fill-group", sub("GRAVITY\n", "GRAVITY\nSTAGES\nFILL      ROCK\n"), "{f}:18:11-20: field GROUP of STAGES FILL: expected an element group (SOIL), found 'ROCK'"),
@@ -185,6 +185,9 @@ cases += [
 cases += [
  ("unit-weight-overflow", sub("   20000.0       0.3      20.0", "   20000.0       0.3     1e307"), "{f}:12:21-30: field GAMMA of MATERIALS 1: expected a real number of magnitude below 1e20, found '1e307'"),
  ("coordinate-overflow", sub("       2.0       0.0\n    4", "      1e12       0.0\n    4"), "{f}:6:36-45: field X2 of NODES 1: expected a coordinate of magnitude at most 1e7 (m), found '1e12'"),
+ ("effects-word", sub("    6    2    1\n", "    6    2    1\nEFFECTS   NONLINEAR ON        MAYBE\n"), "{f}:5:31-40: field WATER of CONTROL EFFECTS: expected ON (the default, also blank) or OFF, found 'MAYBE'"),
+ ("effects-twice", sub("    6    2    1\n", "    6    2    1\nEFFECTS   LINEAR\nEFFECTS             OFF\n"), "{f}:6: CONTROL takes one EFFECTS card (the first is at line 5)"),
+ ("effects-phases", sub("    6    2    1\n", "    6    2    1\nEFFECTS" + " " * 63 + "OFF\n"), "{f}:5:71-80: field PHASES of CONTROL EFFECTS: expected an effect this deck can switch (PHASES OFF needs the SLAB cards that name the slab's element groups), found 'OFF'"),
 ]
 for old in os.listdir(P):
     os.remove(P + old)

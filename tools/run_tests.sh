@@ -111,6 +111,10 @@ tool_checks "eb reference" python3 tools/eb_reference.py --selftest
 tool_checks "eb plane strain" python3 tools/eb_reference.py --check-cfrd "$cfrd" \
     --workdir "$work/eb"
 
+# The EFFECTS card (issue 9, section 3): each effect switched off against a closed form,
+# scipy's E-B integration or an equivalent deck; no contact search in a deck without contact.
+tool_checks "effects" python3 tools/check_effects.py --cfrd "$cfrd" --workdir "$work/effects"
+
 tool_checks "tianshengqiao" python3 tools/check_tianshengqiao.py --run "$cfrd" \
     --workdir "$work/tianshengqiao"
 # The XDMF file read back through an independent reader (meshio) against the HDF5 datasets.

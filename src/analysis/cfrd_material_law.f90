@@ -130,13 +130,15 @@ contains
         level = state%level
     end function stress_level
 
-    !> Raise the history maxima after an accepted increment.
+    !> Raise the history maxima after an accepted increment. Without unloading (EFFECTS
+    !> UNLOAD OFF) the past maximum of the stress state stays 0: the law always loads.
     pure subroutine update_history(mat, pa, stress, history)
         type(material_t), intent(in) :: mat
         real(dp), intent(in) :: pa, stress(4)
         real(dp), intent(inout) :: history(nhistory)
         if (mat%law /= law_duncan_eb) return
-        history(1) = max(history(1), eb_stress_state(eb_parameters(mat, pa), stress))
+        if (mat%unload) history(1) = max(history(1), &
+                                         eb_stress_state(eb_parameters(mat, pa), stress))
         history(2) = max(history(2), stress_level(mat, pa, stress, history))
     end subroutine update_history
 end module cfrd_material_law

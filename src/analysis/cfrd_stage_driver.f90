@@ -171,6 +171,7 @@ contains
         logical, allocatable :: was_used(:)
         real(dp) :: t0, t1, levels(2)
         integer :: nodes_before
+        logical :: dry
 
         t0 = wall_seconds()
         associate (stage => model%stages(s), mesh => model%mesh)
@@ -212,7 +213,10 @@ contains
                 end if
             end select
 
-            if (stage%kind /= stage_reset) then
+            ! A WATER stage without wetted faces (EFFECTS WATER OFF) only moves the level.
+            dry = .true.
+            if (allocated(model%wet_faces)) dry = size(model%wet_faces) == 0
+            if (stage%kind /= stage_reset .and. .not. (stage%kind == stage_water .and. dry)) then
                 if (stage%kind == stage_fill .or. .not. allocated(system%values)) then
                     t1 = wall_seconds()
                     call new_system(model, library, state%active, system, error, &
@@ -613,15 +617,16 @@ contains
         real(dp) :: residual, load_norm, recent, t0
         integer :: iteration
         type(contact_t), allocatable :: contact
-        logical :: changed
+        logical :: changed, searched
 
         load_norm = max(norm2(f_target), tiny(1.0_dp))
         system%viscous = 0.0_dp
         if (state%has_contact) then
             contact = state%contact
             t0 = wall_seconds()
-            call contact_geometry(model, state%active, contact, changed)
+            call contact_geometry(model, state%active, contact, changed, searched)
             result%stats%t_contact = result%stats%t_contact + (wall_seconds() - t0)
+            if (searched) result%stats%searches = result%stats%searches + 1
             if (changed) then
                 t0 = wall_seconds()
                 call new_system(model, library, state%active, system, error, contact, .true.)

@@ -59,6 +59,9 @@ module cfrd_contact
         real(dp), allocatable :: w(:)              !! (nc) m, sum_l D_cl
         real(dp), allocatable :: wref(:)           !! (nc) m, tributary length
         real(dp), allocatable :: g(:)              !! (nc) m*m, weighted gap at the start
+        real(dp), allocatable :: g_curve(:)        !! (nc) m*m, RPIM curve's weighted offset
+        !> faces active at the last search (small slip: no new search until they change)
+        logical, allocatable :: seg_searched(:), mseg_searched(:)
         integer, allocatable :: cpl_ptr(:)         !! (nc + 1)
         integer, allocatable :: cpl_node(:)
         real(dp), allocatable :: cpl_a(:)
@@ -213,11 +216,12 @@ contains
     !> last call (a cast pair: their gap counts as closed), and the closure tolerance applied to
     !> open nodes as the first guess of the active set. `changed` when the coupling lists (the
     !> sparse pattern) differ from the last call's.
-    subroutine contact_geometry(model, active, contact, changed)
+    subroutine contact_geometry(model, active, contact, changed, searched)
         type(model_t), intent(in) :: model
         logical, intent(in) :: active(:)
         type(contact_t), intent(inout) :: contact
         logical, intent(out) :: changed
+        logical, intent(out) :: searched   !! the search ran (not so with small slip)
         real(dp), allocatable :: x(:, :), boxes(:, :), ta(:)
         integer, allocatable :: tc(:), tn(:), old_ptr(:), old_node(:), found(:), marker(:)
         logical, allocatable :: seg_on(:), mseg_on(:), was_placed(:)
@@ -235,6 +239,20 @@ contains
             seg_on = active(contact%seg_element)
             mseg_on = active(contact%mseg_element)
             was_placed = contact%placed
+            ! Small slip (EFFECTS SLIP SMALL): the geometry of the last search holds until
+            ! faces are placed; only the gaps follow the displacements.
+            if (.not. model%effects%large_slip .and. allocated(contact%seg_searched)) then
+                if (all(seg_on .eqv. contact%seg_searched) .and. &
+                    all(mseg_on .eqv. contact%mseg_searched)) then
+                    changed = .false.
+                    searched = .false.
+                    call weighted_gaps()
+                    return
+                end if
+            end if
+            contact%seg_searched = seg_on
+            contact%mseg_searched = mseg_on
+            searched = .true.
             contact%placed = .false.
             contact%normal = 0.0_dp
             contact%wref = 0.0_dp
@@ -289,14 +307,20 @@ contains
             changed = size(old_node) /= size(contact%cpl_node)
             if (.not. changed) changed = any(old_ptr /= contact%cpl_ptr) .or. &
                                          any(old_node /= contact%cpl_node)
-            ! Weighted gaps at the start, the supported nodes, the first guess.
+            contact%g_curve = g_curve
+            call weighted_gaps()
+        end associate
+    contains
+        !> Weighted gaps at the start, the supported nodes, the first guess.
+        subroutine weighted_gaps()
+            integer :: c, kk, ip
             do c = 1, contact%nc
                 contact%g(c) = 0.0_dp
                 do kk = contact%cpl_ptr(c), contact%cpl_ptr(c + 1) - 1
                     contact%g(c) = contact%g(c) - contact%cpl_a(kk)* &
                                    dot_product(contact%normal(:, c), x(:, contact%cpl_node(kk)))
                 end do
-                contact%g(c) = contact%g(c) + g_curve(c)
+                contact%g(c) = contact%g(c) + contact%g_curve(c)
                 contact%supported(c) = contact%placed(c) .and. &
                                        contact%w(c) > 1.0e-6_dp*contact%wref(c)
                 if (.not. contact%supported(c)) then
@@ -315,8 +339,8 @@ contains
                     model%contact_pairs(ip)%tolerance + 1.0e-10_dp*contact%wref(c)) &
                     contact%status(c) = contact_stick
             end do
-        end associate
-    contains
+        end subroutine weighted_gaps
+
         subroutine open_node(c)
             integer, intent(in) :: c
             contact%status(c) = contact_open

@@ -26,7 +26,7 @@ module cfrd_cards
 
     !> One field of a card layout: name, first column, width, kind.
     type :: field_t
-        character(len=8) :: name = ''
+        character(len=10) :: name = ''
         integer :: first = 1
         integer :: width = 0
         integer :: kind = int_field

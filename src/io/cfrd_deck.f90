@@ -14,7 +14,8 @@ module cfrd_deck
                           elem_joint_lobatto, is_joint_kind, &
                           interface_element_t, method_joint, method_thin, all_groups, &
                           contact_surface_t, contact_pair_t, scheme_mortar, scheme_nts, &
-                          search_linear, search_rpim
+                          search_linear, search_rpim, effects_t
+    use cfrd_effects, only: apply_effects
     use cfrd_model_check, only: element_shape, first_unused_node, free_rigid_mode, &
                                 shape_ok, shape_degenerate, unplaced_load, layer_thickness
     use cfrd_cards, only: card_t, field_t, deck_lines_t, int_field, real_field, text_field, &
@@ -47,6 +48,8 @@ module cfrd_deck
                                                          'LOAD', 'RESET', 'WATER']
     character(len=10), parameter :: contact_keywords(2) = [character(len=10) :: 'SURFACE', &
                                                            'PAIR']
+    !> The card of CONTROL that lists the effects a deck asks for.
+    character(len=*), parameter :: effects_keyword = 'EFFECTS'
     !> At most this many named LOADS groups (load sets).
     integer, parameter :: max_load_sets = 1000
 
@@ -71,6 +74,15 @@ module cfrd_deck
                                 field_t('SOLVER', 56, 5, int_field), &
                                 field_t('TOL', 61, 10, real_field), &
                                 field_t('MAXIT', 71, 5, int_field)]
+    type(field_t), parameter :: effects_fields(8) = [ &
+                                field_t('KEYWORD', 1, 10, text_field), &
+                                field_t('ROCKFILL', 11, 10, text_field), &
+                                field_t('UNLOAD', 21, 10, text_field), &
+                                field_t('WATER', 31, 10, text_field), &
+                                field_t('INTERFACE', 41, 10, text_field), &
+                                field_t('FRICTION', 51, 10, text_field), &
+                                field_t('SLIP', 61, 10, text_field), &
+                                field_t('PHASES', 71, 10, text_field)]
     type(field_t), parameter :: node_fields(7) = [ &
                                 field_t('N1', 1, 5, int_field), &
                                 field_t('N2', 6, 5, int_field), &
@@ -269,6 +281,8 @@ contains
         call read_stages(path, groups(g_stages), model, error)
         if (allocated(error)) return
         call check_model(path, groups, model, node_line, element_line, error)
+        if (allocated(error)) return
+        call apply_deck_effects(path, groups(g_control), model, error)
     end subroutine read_deck
 
     !> Split the deck into groups at header cards; stop at END or STOP.
@@ -351,6 +365,7 @@ contains
                     cycle
                 end if
                 if (.not. ((current < 0 .and. any(load_keywords == word)) .or. &
+                           (current == g_control .and. word == effects_keyword) .or. &
                            (current == g_stages .and. any(stage_keywords == word)) .or. &
                            (current == g_contact .and. any(contact_keywords == word)))) then
                     if (current < 0) then
@@ -362,6 +377,10 @@ contains
                     else if (current == g_contact) then
                         call card_error(error, lines%file, card, "unknown card '"//word// &
                                         "' in CONTACT: expected SURFACE or PAIR")
+                    else if (current == g_control) then
+                        call card_error(error, lines%file, card, "unknown card '"//word// &
+                                        "' in CONTROL: expected EFFECTS, or the card of "// &
+                                        "numbers")
                     else
                         call card_error(error, lines%file, card, "unknown group '"//word// &
                                         "': expected one of "//valid_groups)
@@ -423,7 +442,8 @@ contains
         ! "unknown group 'INF'".
         if (card%text(1:1) == ' ' .and. .not. (word == 'END' .or. word == 'STOP' .or. &
             any(group_keywords == word) .or. any(load_keywords == word) .or. &
-            any(stage_keywords == word) .or. any(contact_keywords == word))) word = ''
+            any(stage_keywords == word) .or. any(contact_keywords == word) .or. &
+            word == effects_keyword)) word = ''
     end function leading_word
 
     subroutine append_card(group, card)
@@ -448,17 +468,36 @@ contains
         type(error_t), allocatable, intent(out) :: error
         character(len=:), allocatable :: units
         character(len=*), parameter :: ctx = 'CONTROL'
-        integer :: k, counts_read(3)
+        integer :: k, counts_read(3), i, numbers, effects
         ! No data card means all defaults (a blank card cannot be written: blank lines are
-        ! skipped).
-        if (group%n == 0) return
-        if (group%n > 1) then
-            call fatal_error(error, file//':'//to_text(group%header_line)//': CONTROL takes '// &
-                             'one data card (or none for all defaults), found '// &
-                             to_text(group%n), input_error)
-            return
+        ! skipped). The EFFECTS card may come before or after the card of numbers.
+        numbers = 0
+        effects = 0
+        do i = 1, group%n
+            if (leading_word(group%cards(i)) == effects_keyword) then
+                if (effects > 0) then
+                    call card_error(error, file, group%cards(i), 'CONTROL takes one '// &
+                                    'EFFECTS card (the first is at line '// &
+                                    to_text(group%cards(effects)%line)//')')
+                    return
+                end if
+                effects = i
+            else
+                if (numbers > 0) then
+                    call card_error(error, file, group%cards(i), 'CONTROL takes one card '// &
+                                    'of numbers and one EFFECTS card (the card of numbers '// &
+                                    'is at line '//to_text(group%cards(numbers)%line)//')')
+                    return
+                end if
+                numbers = i
+            end if
+        end do
+        if (effects > 0) then
+            call read_effects(file, group%cards(effects), model%effects, error)
+            if (allocated(error)) return
         end if
-        associate (card => group%cards(1))
+        if (numbers == 0) return
+        associate (card => group%cards(numbers))
             counts%line = card%line
             call get_int(file, card, control_fields, 1, ctx, 0, counts%nnode, error)
             if (allocated(error)) return
@@ -521,6 +560,73 @@ contains
             end if
         end associate
     end subroutine read_control
+
+    !> The EFFECTS card: each field a keyword, blank for the default (the effect on).
+    subroutine read_effects(file, card, effects, error)
+        character(len=*), intent(in) :: file
+        type(card_t), intent(in) :: card
+        type(effects_t), intent(out) :: effects
+        type(error_t), allocatable, intent(out) :: error
+        effects%line = card%line
+        call choose(2, 'NONLINEAR', 'LINEAR', effects%nonlinear_rockfill)
+        if (allocated(error)) return
+        call choose(3, 'ON', 'OFF', effects%unload)
+        if (allocated(error)) return
+        call choose(4, 'ON', 'OFF', effects%water)
+        if (allocated(error)) return
+        call choose(5, 'DECK', 'BONDED', effects%interface)
+        if (allocated(error)) return
+        call choose(6, 'ON', 'OFF', effects%friction)
+        if (allocated(error)) return
+        call choose(7, 'LARGE', 'SMALL', effects%large_slip)
+        if (allocated(error)) return
+        call choose(8, 'ON', 'OFF', effects%phases)
+    contains
+        !> Field k: blank or `on_word` sets `on`, `off_word` clears it.
+        subroutine choose(k, on_word, off_word, on)
+            integer, intent(in) :: k
+            character(len=*), intent(in) :: on_word, off_word
+            logical, intent(out) :: on
+            character(len=:), allocatable :: word
+            call get_text(card, effects_fields, k, word)
+            word = upper(word)
+            on = .true.
+            if (len(word) == 0 .or. word == on_word) return
+            if (word == off_word) then
+                on = .false.
+                return
+            end if
+            call field_error(error, file, card, effects_fields, k, 'CONTROL EFFECTS', &
+                             on_word//' (the default, also blank) or '//off_word, word)
+        end subroutine choose
+    end subroutine read_effects
+
+    !> Apply the EFFECTS card to the model read (cfrd_effects); a request the model cannot
+    !> meet is an error of the card's field.
+    subroutine apply_deck_effects(file, group, model, error)
+        character(len=*), intent(in) :: file
+        type(group_cards_t), intent(in) :: group
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        character(len=:), allocatable :: message
+        integer :: field, i
+        if (model%effects%line == 0) return
+        call apply_effects(model, field, message)
+        if (field == 0) return
+        do i = 1, group%n
+            if (group%cards(i)%line /= model%effects%line) cycle
+            call line_error_of(group%cards(i))
+            return
+        end do
+    contains
+        subroutine line_error_of(card)
+            type(card_t), intent(in) :: card
+            character(len=:), allocatable :: word
+            call get_text(card, effects_fields, field + 1, word)
+            call field_error(error, file, card, effects_fields, field + 1, 'CONTROL EFFECTS', &
+                             'an effect this deck can switch ('//message//')', word)
+        end subroutine line_error_of
+    end subroutine apply_deck_effects
 
     subroutine read_materials(file, group, counts, model, error)
         character(len=*), intent(in) :: file

@@ -23,6 +23,7 @@ module cfrd_hdf5
     use cfrd_model, only: model_t, stage_kind_name, dry_level, law_name
     use cfrd_results, only: results_t, stage_result_t
     use cfrd_interface_io, only: has_interfaces, has_slab, has_contact
+    use cfrd_effects, only: effects_text
     implicit none
     private
 
@@ -109,6 +110,7 @@ contains
         call attr_int(file%file_id, 'layout_version', layout_version, st)
         call attr_text(file%file_id, 'title', model%title, st)
         call attr_text(file%file_id, 'deck_file', model%deck_file, st)
+        call attr_text(file%file_id, 'effects', effects_text(model%effects), st)
         call attr_text(file%file_id, 'created', timestamp(), st)
         call attr_text(file%file_id, 'units', 'm, kN, kPa', st)
         call attr_text(file%file_id, 'sign_convention', &
@@ -257,6 +259,7 @@ contains
         call attr_int(solver_id, 'updates', stage%stats%updates, st)
         call attr_int(solver_id, 'updates_declined', stage%stats%updates_declined, st)
         call attr_int(solver_id, 'contact_iterations', stage%stats%contact_iterations, st)
+        call attr_int(solver_id, 'searches', stage%stats%searches, st)
         call attr_int(solver_id, 'regularised', stage%stats%regularised, st)
         call attr_int(solver_id, 'held', stage%stats%held, st)
         call attr_real(solver_id, 'held_excess', [stage%stats%held_excess], st)

@@ -15,6 +15,7 @@ module cfrd_listing
     use cfrd_columns, only: csv_real, date_of, level_of
     use cfrd_interface_io, only: write_opening_history, write_interface_tables, &
                                  write_opening_summary
+    use cfrd_effects, only: effects_text
     implicit none
     private
 
@@ -106,6 +107,7 @@ contains
         write (unit, '(a,t40,i10)') '   materials', size(model%materials)
         write (unit, '(a,t40,f10.3,a)') '   atmospheric pressure pa', model%pa, ' kPa'
         write (unit, '(a,t40,f10.3,a)') '   unit weight of water', model%gamma_w, ' kN/m3'
+        write (unit, '(a,t40,a)') '   effects', effects_text(model%effects)
         write (unit, '(/,a,/,a)') ' MATERIALS', &
             '   MAT LAW                   E (kPa)        NU   GAMMA (kN/m3)  LABEL'
         do m = 1, size(model%materials)

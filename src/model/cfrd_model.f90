@@ -14,7 +14,7 @@ module cfrd_model
     public :: elem_quad4, elem_quad4_shear, elem_joint_gauss, elem_joint_lobatto, is_joint_kind
     public :: interface_element_t, method_joint, method_thin, method_name
     public :: newtop_count, newtop_zero, solver_midpoint, solver_euler, solver_newton
-    public :: law_name
+    public :: law_name, effects_t
     public :: contact_surface_t, contact_pair_t, scheme_mortar, scheme_nts, search_linear, &
               search_rpim, scheme_name, search_name
 
@@ -89,6 +89,9 @@ module cfrd_model
         real(dp) :: k1 = 0.0_dp, n1 = 0.0_dp, rf1 = 0.0_dp, phi = 0.0_dp
         real(dp) :: sigma_n_floor = 0.0_dp, gamma_w = 9.81_dp
         logical :: tension_cutoff = .false.
+        !> E-B: the unload-reload modulus where the stress state falls below its past
+        !> maximum (off by the EFFECTS card: the loading modulus always, no history kept)
+        logical :: unload = .true.
     end type material_t
 
     !> One element of an interface line (INTERFACE cards): a joint or a thin-layer quad
@@ -191,6 +194,20 @@ module cfrd_model
         integer :: line = 0           !! deck line, for messages
     end type stage_t
 
+    !> The effects a deck asks for (the EFFECTS card of CONTROL, docs/cards.md); all on by
+    !> default. The deck reader applies them to the model (cfrd_effects): what is off is not
+    !> assembled, searched or stored.
+    type :: effects_t
+        logical :: nonlinear_rockfill = .true.  !! E-B laws (off: linear, moduli at pa)
+        logical :: unload = .true.              !! E-B unload-reload modulus Kur
+        logical :: water = .true.               !! water pressure on the RESERVOIR faces
+        logical :: interface = .true.           !! INTERFACE joints (off: bonded)
+        logical :: friction = .true.            !! Coulomb friction of the CONTACT pairs
+        logical :: large_slip = .true.          !! contact geometry at every increment
+        logical :: phases = .true.              !! slab cast in its phases (off: at once)
+        integer :: line = 0                     !! deck line of the EFFECTS card, 0 = none
+    end type effects_t
+
     !> Everything a deck says.
     type :: model_t
         character(len=:), allocatable :: deck_file   !! the file it was read from
@@ -222,6 +239,7 @@ module cfrd_model
         integer :: solver = solver_midpoint
         real(dp) :: tolerance = 1.0e-6_dp     !! Newton: residual / load, SOLVER = 3
         integer :: max_iterations = 20        !! Newton iterations per increment
+        type(effects_t) :: effects            !! the EFFECTS card (applied by the reader)
     end type model_t
 
 contains

@@ -35,6 +35,9 @@ module cfrd_results
         !> contact: solves of the active-set iteration (each solve of an increment counts,
         !> the last one finds the set unchanged)
         integer :: contact_iterations = 0
+        !> contact: global searches (the bucket search and the couplings; every increment with
+        !> large slip, only when faces are placed with small slip)
+        integer :: searches = 0
         !> contact: factorisations whose slip rows were regularised (a body sliding everywhere)
         integer :: regularised = 0
         !> contact: the most slave nodes held in stick in one solve after chatter or a cycle
