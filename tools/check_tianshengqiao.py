@@ -20,11 +20,11 @@ HDF5 results:
     python3 tools/check_tianshengqiao.py DECK RESULTS.h5 [--balance] [--finding]
     python3 tools/check_tianshengqiao.py --run CFRD --workdir DIR      (what make test runs)
 
---run generates the x1 deck (it must equal inputs/tianshengqiao-x1.dat byte for byte: the
-committed deck is what the geometry file says), runs it with the paper's midpoint method
-(water-load and finding checks) and its Newton variant (reaction balance, which needs
-converged increments: the midpoint method carries each increment's out-of-balance force
-into the next).
+--run generates the x1 decks and the decks at the knee of docs/accuracy-cost.md (each must
+equal its deck in inputs/ byte for byte: the committed deck is what the geometry file says),
+runs the x1 deck with the paper's midpoint method (water-load and finding checks) and its
+Newton variant (reaction balance, which needs converged increments: the midpoint method
+carries each increment's out-of-balance force into the next).
 
 Prints one PASS/FAIL line per check; exit status 1 if any failed.
 """
@@ -184,6 +184,14 @@ def run_suite(cfrd, workdir):
         subprocess.run([sys.executable, gen, "--interface", method, "--solver", "newton",
                         "--deck", deck], check=True)
         runs.append((deck, ["--balance", "--label", f"tsq-{method}-newton"]))
+    # The decks at the knee of docs/accuracy-cost.md ([knee] of the geometry file): checked
+    # against the generator only (they run in the regression suite).
+    for interface, name in (("bonded", "tianshengqiao.dat"),
+                            ("contact", "tianshengqiao-x4-contact.dat")):
+        deck = os.path.join(workdir, name)
+        subprocess.run([sys.executable, gen, "--knee", "--interface", interface, "--deck",
+                        deck], check=True)
+        decks.append((deck, [], name))
     for made, _, name in decks:
         same = filecmp.cmp(made, os.path.join(root, "inputs", name), shallow=False)
         print(("PASS" if same else "FAIL") + f" tsq/deck-matches-geometry: inputs/{name}"

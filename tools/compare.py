@@ -625,11 +625,11 @@ def print_report(report, a, b, worst, out=sys.stdout):
 
 # ------------------------------------------------------------------------------ reducing
 
-def reduce_results(path, out, full_stages="last", header=()):
+def reduce_results(path, out, full_stages="last", header=(), quantities=None):
     """Write the compact long-form reference of a cfrd HDF5 file: at every stage the stage
     figures, extremes, gauges and openings; at the last stage (or every stage with
     full_stages='all') the fields too. `displacement` is left out where it equals
-    `displacement_total` (decks without RESET)."""
+    `displacement_total` (decks without RESET). quantities: only these (default all)."""
     rs = read_h5(path)
     last = max(s for _, s in rs.blocks)
     per_stage = ("counts", "loads", "residual", "water_level", "extremes", "gauge",
@@ -638,8 +638,8 @@ def reduce_results(path, out, full_stages="last", header=()):
     for (q, s) in sorted(rs.blocks, key=lambda k: (k[1], list(QUANTITIES).index(k[0]))):
         if q not in per_stage and full_stages == "last" and s != last:
             continue
-        if q == "principal":
-            continue                    # derived from the stresses
+        if q == "principal" or (quantities and q not in quantities):
+            continue                    # derived from the stresses, or not asked for
         blk = rs.blocks[(q, s)]
         if q == "displacement":
             tot = rs.blocks.get(("displacement_total", s))

@@ -34,6 +34,10 @@ the CSVs and listing of it that outputs/ holds) only where the fresh results dif
 the old reference beyond these tolerances, or where it has none (--force: all). It prints
 what changed, to be explained in the commit that updates outputs/.
 
+A deck of FIGURES_ONLY (below) is compared, and its reference written, on the quantities
+named there only: its fields move beyond these tolerances from one build to another (a
+stress level within round-off of the near-failure bound), the figures it is for do not.
+
 Prints one PASS/FAIL line per deck and file; exit status 1 if any failed.
 """
 
@@ -50,6 +54,18 @@ import compare  # noqa: E402
 
 REFERENCE_DIR = "outputs/reference"
 CSV_SUFFIXES = ("-gauges.csv", "-openings.csv", "-slab.csv", "-interface.csv")
+# Decks whose fields do not reproduce within the tolerances below from one build to another,
+# with the quantities that do (their references hold only these) and why.
+FIGURES_ONLY = {
+    "tianshengqiao-x4-contact": (
+        ("counts", "loads", "water_level", "extremes", "gauge", "opening"),
+        "at stage 40 an element's stress level lies within round-off of the 0.95 near-failure"
+        " bound (98 elements near failure in the release build, 99 in the debug build); from"
+        " there the last stage's stresses differ by up to 1.3e-4 of their largest value,"
+        " the stress levels by 2.5e-2 and the relative residual by 1.03e-4 of itself, beyond"
+        " the tolerances, while the openings (the figures this deck is for) agree to 3e-11"
+        " of their largest value, the gauges to 7e-8, the extremes to 3e-9"),
+}
 
 # (rtol, atol, atol is a multiple of the quantity's largest |value|)
 ELASTIC = {"default": (0.0, 1e-9, True), "counts": (0.0, 0.0, False),
@@ -83,23 +99,32 @@ def tolerances_for(deck):
         "elastic" if table is ELASTIC else "nonlinear"
 
 
+def figures_only(deck):
+    """The quantities compared for this deck (None: all) and a note for the verdict."""
+    entry = FIGURES_ONLY.get(batch.stem_of(deck))
+    if entry is None:
+        return None, ""
+    return entry[0], f" ({', '.join(entry[0])} only: FIGURES_ONLY in tools/regression.py)"
+
+
 def compare_files(ref, fresh, deck):
     """Compare a fresh result set with a reference; returns (ok, one-line verdict, report)."""
     tol, default, kind = tolerances_for(deck)
+    quantities, only = figures_only(deck)
     try:
         a = compare.read_result_set(ref)
         wanted = set(a.blocks) if fresh.endswith(".h5") else None
         b = compare.read_result_set(fresh, wanted)
     except compare.InputError as exc:
         return False, f"cannot compare: {exc}", ""
-    rep = compare.compare(a, b, tol, default)
+    rep = compare.compare(a, b, tol, default, quantities)
     text = io.StringIO()
     ok = compare.print_report(rep, a, b, 10, out=text)
     worst = rep["rows"][0] if rep["rows"] else None
     if ok:
         ratio = f"{worst[0]:.1e}" if worst else "0"
         verdict = (f"{rep['compared']} values within the {kind} tolerances "
-                   f"(worst {ratio} of its tolerance)")
+                   f"(worst {ratio} of its tolerance){only}")
     elif rep["compared"] == 0:
         verdict = "nothing in common to compare"
     elif rep["missing"] and not any(r[0] > 1 for r in rep["rows"]):
@@ -192,9 +217,11 @@ def refresh(decks, cfrd, workdir, force, refdir):
                 continue
             print(f"{run.deck}: CHANGED: {verdict}")
             print("".join("    " + l for l in report.splitlines(True)))
+        quantities, only = figures_only(run.deck)
         n = compare.reduce_results(h5, ref, header=[
             f"cfrd regression reference of {run.deck} ({version}), written by "
-            f"tools/regression.py --refresh; layout: docs/results.md"])
+            f"tools/regression.py --refresh{only}; layout: docs/results.md"],
+            quantities=quantities)
         print(f"{run.deck}: wrote {ref} ({n} values)")
         for suffix in CSV_SUFFIXES + (".out",):
             kept = os.path.join("outputs", run.stem + suffix)

@@ -26,13 +26,18 @@ matching the cushion's, with CONTACT cards: the slab's inner faces slave, the bo
 upstream faces master, cast in place).
 
 CLI:
+  python3 tools/tianshengqiao.py --all                 # every deck in inputs/ of this section
   python3 tools/tianshengqiao.py --refine 1 --deck inputs/tianshengqiao-x1.dat
+  python3 tools/tianshengqiao.py --knee --interface joint --deck joint.dat  # at the knee
   python3 tools/tianshengqiao.py --refine 2 --report        # mesh quality only
 """
 
 import argparse
+import copy
 import math
+import re
 import sys
+import textwrap
 try:
     import tomllib                      # Python 3.11 and later
 except ImportError:                     # pragma: no cover
@@ -50,6 +55,7 @@ GRAVITY_G = 9.81            # m/s2: density (kg/m3) * g / 1000 = unit weight (kN
 GAMMA_W = 9.81              # kN/m3, unit weight of water
 ZONES = ["IIA", "IIIA", "IIIB", "IIIC", "IIID"]     # material numbers 1..5; the slab is 6
 SLAB_MATERIAL = 6
+KNEE_DOC = "docs/accuracy-cost.md"
 
 
 # --------------------------------------------------------------------------------------
@@ -63,6 +69,9 @@ class Geometry:
         self.path = Path(path)
         with open(self.path, "rb") as handle:
             self.raw = tomllib.load(handle)
+        self.list_sources()
+
+    def list_sources(self):
         self.choices = []
         self.sources = []
         for group in ("section", "slab", "interface", "zones", "mesh", "increments"):
@@ -74,6 +83,28 @@ class Geometry:
 
     def v(self, group, key):
         return self.raw[group][key]["value"]
+
+    def knee(self, interface):
+        """(refine, increments per fill layer and slab phase, water step in m) at the knee of
+        docs/accuracy-cost.md for this interface: the geometry file's [knee] table."""
+        prefix = "contact_" if interface == "contact" else ""
+        return (self.v("knee", prefix + "refine"), self.v("knee", prefix + "increments"),
+                float(self.v("knee", prefix + "water_rise")))
+
+    def at_knee(self, interface):
+        """A copy whose [increments] are the knee's; returns (refine, geometry)."""
+        r, ninc, step = self.knee(interface)
+        geo = copy.deepcopy(self)
+        note = f"at the knee of {KNEE_DOC} ([knee] of the geometry file)"
+        inc = geo.raw["increments"]
+        inc["fill_layer"] = {"value": ninc, "source": "choice",
+                             "note": "increments per FILL layer, " + note}
+        inc["slab_phase"] = {"value": ninc, "source": "choice",
+                             "note": "increments per slab phase, " + note}
+        inc["water_step"] = {"value": step, "source": "choice",
+                             "note": "m of reservoir rise per increment, " + note}
+        geo.list_sources()
+        return r, geo
 
     @property
     def crest(self):
@@ -603,6 +634,75 @@ def gauge_nodes(geo, num):
     return out
 
 
+# What docs/accuracy-cost.md measured for a deck at the knee and for the x1 decks (section 2,
+# the `combined` rows and the x1 rows of the mesh knob; errors against the best estimate and
+# against x8), quoted in the deck header. Other settings get no figures.
+KNEE_FIGURES = {
+    "bonded": "3.7 s; the mid-height settlement (El. 709.3 m) 0.08 % and the overall maximum"
+              " 0.85 % from the best estimate; the gauge C1-H5 13 % off (it needs x8)",
+    "joint": "4.4 s; the mid-height settlement 0.04 % and the overall maximum 0.86 % from the"
+             " best estimate; the gauge C1-H5 23 % off; the openings not converged at any mesh",
+    "thin": "4.1 s; the mid-height settlement 0.26 % and the overall maximum 0.52 % from the"
+            " best estimate; the gauge C1-H5 11 % off; the openings not converged at any mesh",
+    "contact": "16 s; x1 and x2 do not resolve the 3.6 m openings; the phase I and II widths"
+               " 4.8 and 2.7 % from x8, the depths equal; the mid-height settlement 0.03 % from"
+               " x8; 2 increments per layer and 5 m water steps (28 s) widen phase I by 6 %",
+}
+X1_FIGURES = {
+    "bonded": "0.5 s; the settlement 1.5 % (mid-height row, El. 709.3 m) and 2.3 % (overall"
+              " maximum) from x8; the gauge C1-H5 8 % off, not converged",
+    "joint": "0.6 s; the settlement 1.5 % (mid-height row) and 2.4 % (overall maximum) from x8;"
+             " the gauge C1-H5 14 % off; the openings not converged (widths 90-100 %, depths"
+             " 100-300 % off x8)",
+    "thin": "0.5 s; the settlement 1.4 % (mid-height row) and 2.2 % (overall maximum) from x8;"
+            " the gauge C1-H5 6 % off; the openings not converged (widths 40-100 %, depths"
+            " 215-220 % off x8)",
+    "contact": "0.6 s; the settlement 1.3 % (mid-height row) and 2.3 % (overall maximum) from"
+               " x8; the gauge C1-H5 15 % off; no opening at x1 (the phase tops do not"
+               " separate): the openings need x4",
+}
+KNEE_DECKS = {"bonded": "inputs/tianshengqiao.dat",
+              "contact": "inputs/tianshengqiao-x4-contact.dat"}
+
+
+def settings_text(r, ninc, step):
+    return (f"mesh x{r}, {ninc} increment{'s' if ninc != 1 else ''} per layer, {step:g} m"
+            f" water steps")
+
+
+def knee_lines(geo, r, interface):
+    """Header lines: where the deck's settings sit against the knee of docs/accuracy-cost.md
+    (mesh, increments per fill layer and slab phase, water step)."""
+    ninc = geo.v("increments", "fill_layer")
+    if geo.v("increments", "slab_phase") != ninc:
+        ninc_text = f"{ninc}/{geo.v('increments', 'slab_phase')}"
+    else:
+        ninc_text = ninc
+    step = float(geo.v("increments", "water_step"))
+    kr, kinc, kstep = geo.knee(interface)
+    knee = settings_text(kr, kinc, kstep)
+    what = " for the contact openings" if interface == "contact" else ""
+    mine = settings_text(r, ninc, step) if ninc_text == ninc else \
+        f"mesh x{r}, {ninc_text} increments per layer/slab phase, {step:g} m water steps"
+    deck = KNEE_DECKS.get(interface) or \
+        f"tools/tianshengqiao.py --knee --interface {interface}"
+    if (r, ninc_text, step) == (kr, kinc, kstep):
+        lines = [f"settings at the knee of {KNEE_DOC}: {knee}"]
+        more = [what.strip() or f"for the {interface} method", KNEE_FIGURES[interface]]
+    else:
+        below = r <= kr and isinstance(ninc_text, int) and ninc <= kinc and step >= kstep
+        lines = [f"{'below' if below else 'not'} the knee of {KNEE_DOC}: {mine}"]
+        more = [f"the knee{what}: {knee}, {deck}"]
+        if below and (r, ninc, step) == (1, 1, 10.0):
+            more += [X1_FIGURES[interface],
+                     "the paper's resolution and the fast regression deck"]
+    # a number stays with its unit on a line
+    text = re.sub(r"(\d) (%|s\b|m\b)", "\\1\xa0\\2", "(" + "; ".join(more) + ")")
+    lines += ["  " + t.replace("\xa0", " ")
+              for t in textwrap.wrap(text, 90, break_on_hyphens=False)]
+    return lines
+
+
 def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="bonded",
                rule="LOBATTO", slab_type=None):
     if slab_type is None:
@@ -620,6 +720,8 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
     add("* edit the geometry file and rerun `python3 tools/tianshengqiao.py --all`.")
     add("* Sources: [paper] Qian et al. 2013; [lit] published values for this dam, not in")
     add("* the paper's text; [choice] modelling choices with no source.")
+    for text in knee_lines(geo, r, interface):
+        add("* " + text)
     for key, value, source, note in geo.sources:
         text = f"*   {key} = {value} [{source}]" + (f" {note}" if note else "")
         add(text)
@@ -777,11 +879,18 @@ def generate(r, geo=None, interface="bonded"):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--refine", type=int, default=1, choices=[1, 2, 4, 8])
+    parser.add_argument("--refine", type=int, default=None, choices=[1, 2, 4, 8],
+                        help="mesh refinement (default 1)")
     parser.add_argument("--deck", help="write the cfrd deck here")
+    parser.add_argument("--knee", action="store_true",
+                        help=f"the settings at the knee of {KNEE_DOC} for --interface (the"
+                             " geometry file's [knee]: mesh, increments per layer and slab"
+                             " phase, water step) in place of --refine and [increments]")
     parser.add_argument("--all", action="store_true",
-                        help="write inputs/tianshengqiao-x1.dat and -x2.dat (bonded) and the"
-                             " x1 joint, thin and contact decks")
+                        help="write inputs/tianshengqiao-x1.dat and -x2.dat (bonded), the"
+                             " x1 joint, thin and contact decks, and the decks at the knee:"
+                             " inputs/tianshengqiao.dat (bonded) and"
+                             " inputs/tianshengqiao-x4-contact.dat")
     parser.add_argument("--interface", default="bonded", choices=list(INTERFACES),
                         help="slab-cushion interface: bonded (shared nodes), thin (thin-layer"
                              " quads), joint (Goodman joints on node pairs) or contact (the"
@@ -801,17 +910,26 @@ def main(argv=None):
     geo = Geometry(args.geometry)
     if args.top_rows is not None:
         geo.top_rows = args.top_rows
+    if args.knee and args.refine is not None:
+        parser.error("--knee sets the mesh: leave out --refine")
+    refine = args.refine or 1
     jobs = []
     if args.all:
-        root = Path(__file__).resolve().parent.parent / "inputs"
-        jobs = [(r, root / f"tianshengqiao-x{r}.dat", "bonded") for r in (1, 2)]
-        jobs += [(1, root / f"tianshengqiao-x1-{m}.dat", m) for m in ("joint", "thin",
-                                                                      "contact")]
+        root = Path(__file__).resolve().parent.parent
+        inputs = root / "inputs"
+        jobs = [(r, inputs / f"tianshengqiao-x{r}.dat", "bonded", False) for r in (1, 2)]
+        jobs += [(1, inputs / f"tianshengqiao-x1-{m}.dat", m, False) for m in ("joint", "thin",
+                                                                               "contact")]
+        jobs += [(None, root / deck, m, True) for m, deck in KNEE_DECKS.items()]
     elif args.deck:
-        jobs = [(args.refine, Path(args.deck), args.interface)]
+        jobs = [(refine, Path(args.deck), args.interface, args.knee)]
     else:
-        jobs = [(args.refine, None, args.interface)]
-    for r, path, interface in jobs:
+        jobs = [(refine, None, args.interface, args.knee)]
+    base = geo
+    for r, path, interface, knee in jobs:
+        geo = base
+        if knee:
+            r, geo = base.at_knee(interface)
         geo, num, stages, notes = generate(r, geo, interface)
         if path is not None:
             info = write_deck(geo, r, num, stages, notes, path, args.solver, interface,
