@@ -473,23 +473,28 @@ def bench_effects(cfrd, refinements, workdir, repeat):
                 deck = os.path.join(workdir, f"effects-x{r}-{interface}-{len(cells)}.dat")
                 with open(deck, "w") as f:
                     f.write(effects_deck(text, on, applies[interface]))
+                def run_and_read(deck=deck):
+                    # the figures of each run, so that they belong to the run reported
+                    wall, rss, h5 = peer.run_cfrd(cfrd, deck, workdir)
+                    with h5py.File(h5) as f:
+                        st = [f["stages"][k] for k in sorted(f["stages"])]
+                        sv = [g["solver"].attrs for g in st]
+                        return wall, rss, dict(
+                            stages=len(st),
+                            inc=sum(int(g.attrs["increments"]) for g in st),
+                            fact=sum(int(a["numeric_factorisations"]) for a in sv),
+                            searches=sum(int(a.get("searches", 0)) for a in sv),
+                            t_contact=sum(float(a.get("t_contact", 0.0)) for a in sv),
+                            analysis=float(np.ravel(f["run"].attrs["wall_time"])[0]))
                 try:
-                    (wall, rss, h5), rss = repeat_run(
-                        lambda: peer.run_cfrd(cfrd, deck, workdir), repeat)
+                    (wall, _, fig), rss = repeat_run(run_and_read, repeat)
                 except (peer.RunError, OSError) as exc:
                     cells.append([f"x{r}", interface, label] + ["-"] * 6
                                  + [f"failed: {str(exc)[:60]}"])
                     continue
-                with h5py.File(h5) as f:
-                    st = [f["stages"][k] for k in sorted(f["stages"])]
-                    sv = [g["solver"].attrs for g in st]
-                    inc = sum(int(g.attrs["increments"]) for g in st)
-                    fact = sum(int(a["numeric_factorisations"]) for a in sv)
-                    searches = sum(int(a.get("searches", 0)) for a in sv)
-                    t_contact = sum(float(a.get("t_contact", 0.0)) for a in sv)
-                    analysis = float(np.ravel(f["run"].attrs["wall_time"])[0])
-                cells.append([f"x{r}", interface, label, str(len(st)), str(inc), str(fact),
-                              str(searches), f"{t_contact:.3f}", sec(analysis), sec(wall),
+                cells.append([f"x{r}", interface, label, str(fig["stages"]), str(fig["inc"]),
+                              str(fig["fact"]), str(fig["searches"]),
+                              f"{fig['t_contact']:.3f}", sec(fig["analysis"]), sec(wall),
                               mb(rss)])
                 print(f"  effects x{r} {interface} {label}: {sec(wall)} s", file=sys.stderr,
                       flush=True)
