@@ -19,12 +19,16 @@ HDF5 results:
 
     python3 tools/check_tianshengqiao.py DECK RESULTS.h5 [--balance] [--finding]
     python3 tools/check_tianshengqiao.py --run CFRD --workdir DIR      (what make test runs)
+    python3 tools/check_tianshengqiao.py --face-run CFRD --workdir DIR (issue 7, 1 min)
 
 --run generates the x1 decks and the decks at the knee of docs/accuracy-cost.md (each must
 equal its deck in inputs/ byte for byte: the committed deck is what the geometry file says),
 runs the x1 deck with the paper's midpoint method (water-load and finding checks) and its
 Newton variant (reaction balance, which needs converged increments: the midpoint method
-carries each increment's out-of-balance force into the next).
+carries each increment's out-of-balance force into the next); it also checks the
+face-resolved contact meshes (tianshengqiao.py --face 4) and runs the x1 one: its largest
+phase I and II openings (width and depth) within 10 % of the plain x8 mesh's. --face-run
+runs the x1, x2 and x4 face-resolved decks, each against x8 and their spread.
 
 Prints one PASS/FAIL line per check; exit status 1 if any failed.
 """
@@ -153,6 +157,100 @@ def interface_meshes():
     return ok
 
 
+# The face-resolved contact meshes (docs/tianshengqiao.md section 8, "Face-resolved
+# meshes"): the plain x8 contact deck's largest openings, release build, midpoint (width m,
+# depth m for phases I and II), the reference of the mesh-independence check.
+FACE_REFERENCE_X8 = {"SLAB1": (0.00789, 3.6022), "SLAB2": (0.00459, 3.5485)}
+FACE_TOLERANCE = 0.10           # issue 7: within 10 % (the paper's claim)
+
+
+def face_meshes():
+    """The face-resolved contact meshes (tianshengqiao.py --face 4): at x4 the plain x4 mesh;
+    at x1 the x4 mesh's cushion face nodes and slab, the body away from the band coarse."""
+    import os
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import tianshengqiao as tsq
+
+    def parts(num, geo):
+        face, slab = set(), set()
+        for c, q in zip(num.conn, num.quads):
+            for k in c:
+                x, y = num.xy[k - 1]
+                on = abs(x - geo.x_up(y)) < 1e-6
+                if q.kind == "body" and on:
+                    face.add((round(x, 6), round(y, 6)))
+                elif q.kind == "slab":
+                    slab.add((round(x, 6), round(y, 6)))
+        return face, slab
+
+    geo, plain, _, _ = tsq.generate(4, interface="contact")
+    _, face4, _, _ = tsq.generate(4, interface="contact", face=4)
+    same = (np.array_equal(plain.xy, face4.xy) and np.array_equal(plain.conn, face4.conn))
+    print(("PASS" if same else "FAIL") + " tsq/face-mesh-x4: the x4 face-resolved mesh is"
+          + ("" if same else " NOT") + " the plain x4 contact mesh")
+    _, face1, _, _ = tsq.generate(1, interface="contact", face=4)
+    f4, s4 = parts(plain, geo)
+    f1, s1 = parts(face1, geo)
+    nbody = sum(q.kind == "body" for q in face1.quads)
+    good = f1 == f4 and s1 == s4 and nbody < 0.55 * sum(q.kind == "body" for q in plain.quads)
+    print(("PASS" if good else "FAIL") + f" tsq/face-mesh-x1: {len(f1)} cushion face nodes and"
+          f" {len(s1)} slab nodes, {'the same as' if f1 == f4 and s1 == s4 else 'NOT'} the x4"
+          f" mesh's; {nbody} body quads (x4: {sum(q.kind == 'body' for q in plain.quads)})")
+    return same and good
+
+
+def face_openings(cfrd, workdir, levels):
+    """Run the face-resolved contact decks (--face 4) at the body levels given and check
+    the largest width and depth of the phase I and II openings against the plain x8 mesh's
+    (FACE_REFERENCE_X8): within FACE_TOLERANCE each, and of each other."""
+    import csv
+    import os
+    import subprocess
+    import time
+    gen = os.path.join(os.path.dirname(os.path.abspath(__file__)), "tianshengqiao.py")
+    os.makedirs(workdir, exist_ok=True)
+    ok = True
+    got = {}
+    for r in levels:
+        deck = os.path.join(workdir, f"tianshengqiao-x{r}-face4-contact.dat")
+        subprocess.run([sys.executable, gen, "--refine", str(r), "--face", "4", "--interface",
+                        "contact", "--deck", deck], check=True)
+        start = time.perf_counter()
+        run = subprocess.run([cfrd, "--quiet", "--out", workdir, deck], capture_output=True,
+                             text=True)
+        seconds = time.perf_counter() - start
+        if run.returncode != 0:
+            print(f"FAIL tsq/face-x{r}-run: exit {run.returncode}: {run.stderr[:300]}")
+            ok = False
+            continue
+        with open(deck[:-4] + "-openings.csv", newline="") as handle:
+            rows = list(csv.DictReader(handle))
+        for group, (w_ref, d_ref) in FACE_REFERENCE_X8.items():
+            mine = [row for row in rows if row["group"].strip() == group]
+            width = max(float(row["width_m"]) for row in mine)
+            depth = max(float(row["depth_m"]) for row in mine)
+            got[(r, group)] = (width, depth)
+            ew, ed = width / w_ref - 1.0, depth / d_ref - 1.0
+            good = abs(ew) <= FACE_TOLERANCE and abs(ed) <= FACE_TOLERANCE
+            print(("PASS" if good else "FAIL") + f" tsq/face-x{r}-{group.lower()}-opening:"
+                  f" width {width:.4f} m ({100 * ew:+.1f} %), depth {depth:.2f} m"
+                  f" ({100 * ed:+.1f} %) against the plain x8 mesh's {w_ref} m, {d_ref} m"
+                  f" (tol {100 * FACE_TOLERANCE:.0f} %; {seconds:.1f} s)")
+            ok &= good
+    if len(levels) > 1 and len(got) == 2 * len(levels):
+        spread = 0.0
+        for group in FACE_REFERENCE_X8:
+            for k in range(2):
+                values = [got[(r, group)][k] for r in levels]
+                spread = max(spread, (max(values) - min(values)) / min(values))
+        good = spread <= FACE_TOLERANCE
+        print(("PASS" if good else "FAIL") + " tsq/face-mesh-independence: largest spread of"
+              f" the four opening figures over x{', x'.join(map(str, levels))}"
+              f" {100 * spread:.1f} % (tol {100 * FACE_TOLERANCE:.0f} %)")
+        ok &= good
+    return ok
+
+
 def run_suite(cfrd, workdir):
     """Generate, run and check the x1 deck and its Newton variant."""
     import filecmp
@@ -199,6 +297,10 @@ def run_suite(cfrd, workdir):
               " inputs/tianshengqiao-i.toml")
         ok &= same
     ok &= interface_meshes()
+    ok &= face_meshes()
+    # The coarsest face-resolved deck (x1 body, x4 face: about 16 s in the debug build); x2
+    # and x4 with --face-run (docs/tianshengqiao.md section 8).
+    ok &= face_openings(cfrd, os.path.join(workdir, "face"), (1,))
     for deck, extra in runs:
         run = subprocess.run([cfrd, "--quiet", "--out", workdir, deck], capture_output=True,
                              text=True)
@@ -221,7 +323,15 @@ def main(argv=None):
     parser.add_argument("--label", default="tsq")
     parser.add_argument("--run", metavar="CFRD")
     parser.add_argument("--workdir", default="build/tsq-check")
+    parser.add_argument("--face-run", metavar="CFRD",
+                        help="run the face-resolved contact decks x1, x2, x4 (--face 4) and"
+                             " check their openings against the plain x8 mesh's (1-2 min"
+                             " with the release build)")
     args = parser.parse_args(argv)
+    if args.face_run:
+        meshes = face_meshes()
+        runs = face_openings(args.face_run, args.workdir, (1, 2, 4))
+        return 0 if meshes and runs else 1
     if args.run:
         return run_suite(args.run, args.workdir)
     weights, wet, gamma_w = read_deck(args.deck)

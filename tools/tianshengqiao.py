@@ -25,6 +25,10 @@ matching node pairs on the interface) and contact (a slab mesh of its own, nodes
 matching the cushion's, with CONTACT cards: the slab's inner faces slave, the body's
 upstream faces master, cast in place).
 
+--face F (issue 7 experiment, default off): the face-resolved mesh, the x1 mesh divided quad
+by quad instead of R x R: every row and the slab in F along the slope, the first --face-band
+columns behind the cushion face at xF, the other columns at the level R (face_split).
+
 CLI:
   python3 tools/tianshengqiao.py --all                 # every deck in inputs/ of this section
   python3 tools/tianshengqiao.py --refine 1 --deck inputs/tianshengqiao-x1.dat
@@ -182,6 +186,10 @@ class Quad:
     cover: str = ""         # group whose placement covers the wet face
     column: int = -1        # body: 0 = IIA band, 1 = IIIA band, else -1
     phase: int = 0          # slab and thin layer: slab phase 1..3
+    transition: int = 0     # body: quad 1-4 of a 3-to-1 transition (4 = the top one), else 0
+    ucol: int = -1          # body: column from the upstream face between two upstream lines
+    dcol: int = -1          # body: column from the downstream face between two downstream lines
+    born: int = -1          # body transition: the upstream column it starts (its quad 1)
 
 
 @dataclass
@@ -270,20 +278,22 @@ def build_x1(geo, interface="bonded"):
             p2 = mesh.point(("p2", j), (xb_new - 0.5 * frac * geo.sd * h, ym))
             for c in range(ia):
                 mesh.quads.append(Quad((bot[c], bot[c + 1], top[c + 1], top[c]), "body", j,
-                                       column=c if c < 2 else -1))
+                                       column=c if c < 2 else -1, ucol=c))
             A, An, Bn, B = bot[ia], bot[ia + 1], bot[ia + 2], bot[ia + 3]
             At, Bt = top[ia], top[ia + 1]
-            mesh.quads.append(Quad((A, An, p1, At), "body", j))
-            mesh.quads.append(Quad((An, Bn, p2, p1), "body", j))
-            mesh.quads.append(Quad((Bn, B, Bt, p2), "body", j))
-            mesh.quads.append(Quad((p1, p2, Bt, At), "body", j))
+            for k, nodes in enumerate(((A, An, p1, At), (An, Bn, p2, p1), (Bn, B, Bt, p2),
+                                       (p1, p2, Bt, At)), 1):
+                mesh.quads.append(Quad(nodes, "body", j, transition=k, born=ia))
             for c in range(ia + 1, len(top) - 1):
-                mesh.quads.append(Quad((bot[c + 2], bot[c + 3], top[c + 1], top[c]), "body", j))
+                mesh.quads.append(Quad((bot[c + 2], bot[c + 3], top[c + 1], top[c]), "body", j,
+                                       dcol=len(top) - 2 - c))
         else:
             assert len(bot) == len(top)
+            nu = len(aa_top) - 1            # columns between two upstream lines
             for c in range(len(top) - 1):
                 mesh.quads.append(Quad((bot[c], bot[c + 1], top[c + 1], top[c]), "body", j,
-                                       column=c if c < 2 else -1))
+                                       column=c if c < 2 else -1, ucol=c if c < nu else -1,
+                                       dcol=len(top) - 2 - c if c > nu else -1))
     # The upstream body face is wetted (cushion, or fill above the slab).
     for q in mesh.quads:
         if q.kind == "body" and q.column == 0:
@@ -348,43 +358,55 @@ def build_x1(geo, interface="bonded"):
     return mesh
 
 
-def refine(mesh, r):
-    """Split each quad into r x r by its bilinear map; shared edges share their nodes."""
-    if r == 1:
+def refine(mesh, r, split=None):
+    """Split each quad into r x r by its bilinear map; shared edges share their nodes.
+
+    split: optional function of a quad giving (ns, nt), its divisions along its first edge
+    (node 1 -> 2) and its second (node 2 -> 3), instead of (r, r); the divisions of an edge
+    must be the same from both its quads (checked: no hanging nodes)."""
+    if r == 1 and split is None:
         return mesh
     out = Mesh()
+    divisions = {}                  # x1 edge (smaller key, larger key) -> its divisions
     for qi, q in enumerate(mesh.quads):
         corners = [np.array(mesh.coords[k]) for k in q.nodes]
+        ns, nt = (r, r) if split is None else split(q)
+        for n0, n1, nn in ((0, 1, ns), (1, 2, nt), (3, 2, ns), (0, 3, nt)):
+            edge = tuple(sorted((q.nodes[n0], q.nodes[n1]), key=repr))
+            if divisions.setdefault(edge, nn) != nn:
+                raise SystemExit(f"refine: edge {edge} divided {divisions[edge]} and {nn}"
+                                 " times by its two quads (a hanging node)")
 
         def key(i, j):
             # corner
-            if (i, j) in ((0, 0), (r, 0), (r, r), (0, r)):
-                return q.nodes[[(0, 0), (r, 0), (r, r), (0, r)].index((i, j))]
+            if (i, j) in ((0, 0), (ns, 0), (ns, nt), (0, nt)):
+                return q.nodes[[(0, 0), (ns, 0), (ns, nt), (0, nt)].index((i, j))]
             # edge: identified by its end nodes and the position from the smaller key
-            edges = {0: (0, 1, i), 1: (1, 2, j), 2: (3, 2, i), 3: (0, 3, j)}
-            side = 0 if j == 0 else 1 if i == r else 2 if j == r else 3 if i == 0 else None
+            edges = {0: (0, 1, i, ns), 1: (1, 2, j, nt), 2: (3, 2, i, ns), 3: (0, 3, j, nt)}
+            side = (0 if j == 0 else 1 if i == ns else 2 if j == nt else 3 if i == 0
+                    else None)
             if side is not None:
-                n0, n1, t = edges[side]
+                n0, n1, t, n = edges[side]
                 ka, kb = q.nodes[n0], q.nodes[n1]
                 if repr(ka) <= repr(kb):
-                    return ("e", ka, kb, t)
-                return ("e", kb, ka, r - t)
+                    return ("e", ka, kb, t, n)
+                return ("e", kb, ka, n - t, n)
             return ("i", qi, i, j)
 
         def xy(i, j):
-            s, t = i / r, j / r
+            s, t = i / ns, j / nt
             return ((1 - s) * (1 - t) * corners[0] + s * (1 - t) * corners[1]
                     + s * t * corners[2] + (1 - s) * t * corners[3])
 
-        for j in range(r):
-            for i in range(r):
+        for j in range(nt):
+            for i in range(ns):
                 ks = [key(i, j), key(i + 1, j), key(i + 1, j + 1), key(i, j + 1)]
                 for kk, (ii, jj) in zip(ks, [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)]):
                     if kk not in out.coords:
                         # points on an edge come from the canonical end (same rounding)
                         if kk[0] == "e":
                             pa, pb = np.array(mesh.coords[kk[1]]), np.array(mesh.coords[kk[2]])
-                            out.coords[kk] = tuple(pa + (pb - pa) * (kk[3] / r))
+                            out.coords[kk] = tuple(pa + (pb - pa) * (kk[3] / kk[4]))
                         elif kk[0] == "i":
                             out.coords[kk] = tuple(xy(ii, jj))
                         else:
@@ -392,6 +414,29 @@ def refine(mesh, r):
                 out.quads.append(Quad(tuple(ks), q.kind, q.band, q.material, q.group,
                                       q.wet_face4 and i == 0, q.cover, q.column))
     return out
+
+
+def face_split(r, face, band=0):
+    """Divisions of the x1 quads for the face-resolved mesh (--face F): every body row and
+    every slab element along the slope in F, the body's columns in r (the level), but the
+    first `band` columns from the upstream face (1: IIA, 2: IIA and IIIA, 3 and more: IIIB
+    columns too) in F, and the slab in F through its thickness too (the xF slab).
+
+    A 3-to-1 transition's quads 1-3 border the split rows on their sides: (r, F); its top
+    quad borders row lines only: (r, r). Where a transition starts an upstream column of
+    the band, its quads 1 and 3 are (F, F) and 2 and 4 (r, F), and the downstream column it
+    starts (the mirror one) is in F as well."""
+    def split(q):
+        if q.kind == "slab":
+            return face, face           # (through the thickness, along the slope)
+        if q.transition:
+            if q.born < band:
+                return (face, face) if q.transition in (1, 3) else (r, face)
+            return (r, r) if q.transition == 4 else (r, face)
+        if 0 <= q.ucol < band or 0 <= q.dcol < band - 2:
+            return face, face
+        return r, face
+    return split
 
 
 # --------------------------------------------------------------------------------------
@@ -704,7 +749,7 @@ def knee_lines(geo, r, interface):
 
 
 def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="bonded",
-               rule="LOBATTO", slab_type=None):
+               rule="LOBATTO", slab_type=None, mesh_label=None):
     if slab_type is None:
         slab_type = "Q4S" if interface == "contact" else "Q4"
     gauges = gauge_nodes(geo, num)
@@ -715,7 +760,7 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
             "thin": "thin layer under the slab",
             "joint": f"Goodman joints ({rule.lower()})",
             "contact": "slab in contact"}[interface]
-    add(f"TITLE     Tianshengqiao-I section 0+630, x{r} mesh, {what}")
+    add(f"TITLE     Tianshengqiao-I section 0+630, {mesh_label or f'x{r} mesh'}, {what}")
     add("* Written by tools/tianshengqiao.py from inputs/tianshengqiao-i.toml; do not edit:")
     add("* edit the geometry file and rerun `python3 tools/tianshengqiao.py --all`.")
     add("* Sources: [paper] Qian et al. 2013; [lit] published values for this dam, not in")
@@ -854,12 +899,22 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
     return info
 
 
-def generate(r, geo=None, interface="bonded"):
+def generate(r, geo=None, interface="bonded", face=None, face_band=6):
+    """face: the face-resolved mesh (face_split): rows and slab in `face` divisions per x1
+    row and slab element, the body's columns at the level r (the first face_band in
+    `face`); None: the plain xr mesh."""
     geo = geo or Geometry()
     mesh = build_x1(geo, interface)
     assign_zones(geo, mesh)
     stages, notes = plan_history(geo, mesh)
-    fine = refine(mesh, r)
+    if face is not None:
+        fine = refine(mesh, r, face_split(r, face, face_band))
+        notes = notes + [f"face-resolved mesh (--face {face} --face-band {face_band}): every"
+                         f" x1 row and slab element in {face} along the slope, the first"
+                         f" {face_band} body columns from the upstream face at x{face}, the"
+                         f" other columns at x{r}"]
+    else:
+        fine = refine(mesh, r)
     if interface == "thin":
         # The layer is one element thick at every refinement: the INTERFACE cards make its
         # quads from the cushion and slab node pairs, so the refined layer goes.
@@ -906,6 +961,14 @@ def main(argv=None):
     parser.add_argument("--top-rows", type=int, default=None,
                         help="split the top row of slab phases I and II into this many mesh"
                              " rows (x1; refined with the rest)")
+    parser.add_argument("--face", type=int, default=None, choices=[1, 2, 4, 8],
+                        help="face-resolved mesh (issue 7 experiment): every body row and"
+                             " the slab divided in FACE per x1 row and element, the body's"
+                             " columns at the --refine level")
+    parser.add_argument("--face-band", type=int, default=6,
+                        help="with --face: the first N body columns from the upstream face"
+                             " (1: IIA, 2: IIA and IIIA, more: IIIB columns of about 11.6 m"
+                             " at x1; default 6, 54 m) divided in FACE too")
     args = parser.parse_args(argv)
     geo = Geometry(args.geometry)
     if args.top_rows is not None:
@@ -930,10 +993,11 @@ def main(argv=None):
         geo = base
         if knee:
             r, geo = base.at_knee(interface)
-        geo, num, stages, notes = generate(r, geo, interface)
+        geo, num, stages, notes = generate(r, geo, interface, args.face, args.face_band)
         if path is not None:
+            label = None if args.face is None else f"x{r} body, x{args.face} face"
             info = write_deck(geo, r, num, stages, notes, path, args.solver, interface,
-                              args.rule, args.slab_element)
+                              args.rule, args.slab_element, label)
         else:
             info = describe(geo, r, num)
         if args.report or path is None:
