@@ -454,6 +454,7 @@ def bench_effects(cfrd, refinements, workdir, repeat):
     """(f) The joint and contact decks of Tianshengqiao-I with the effects switched on one at
     a time: process wall time (minimum of `repeat`), peak memory, and what the analysis did
     (increments, numeric factorisations, contact searches, the time in the contact code)."""
+    import subprocess
     import h5py
     gen = os.path.join(HERE, "tianshengqiao.py")
     applies = dict(joint=("ROCKFILL", "UNLOAD", "WATER", "INTERFACE", "PHASES"),
@@ -462,7 +463,6 @@ def bench_effects(cfrd, refinements, workdir, repeat):
     for r in refinements:
         for interface in ("joint", "contact"):
             base = os.path.join(workdir, f"effects-x{r}-{interface}.dat")
-            import subprocess
             subprocess.run([sys.executable, gen, "--refine", str(r), "--interface", interface,
                             "--deck", base], check=True)
             with open(base) as f:
@@ -595,23 +595,25 @@ def main(argv=None):
         out_text += ["", "(c) IIIB E-B embankment in 20 layers, 2 increments a layer", t]
         out_md += ["**(c) The homogeneous IIIB E-B embankment built in 20 layers** (2 "
                    "increments a layer): midpoint against Newton.", "", m, ""]
-    if cfrd and tsq:
-        t, m = bench_tianshengqiao(cfrd, tsq, args.workdir, args.repeat, args.tsq_newton_max)
-        out_text += ["", "(d) Tianshengqiao-I, the whole 1996-1999 history", t]
-        out_md += ["**(d) Tianshengqiao-I, the whole 1996-1999 history** "
-                   "(tools/tianshengqiao.py meshes; midpoint as in the paper, Newton to "
-                   "1e-10).", "", m, ""]
-    if cfrd and ifr:
-        t, m = bench_interfaces(cfrd, ifr, args.workdir, args.repeat)
-        out_text += ["", "(e) Tianshengqiao-I, the interface methods on the same body mesh", t]
-        out_md += ["**(e) Tianshengqiao-I, the interface methods** (bonded, Goodman joints, "
-                   "contact; the same body mesh; sums over the stages).", "", m, ""]
-    if cfrd and efr:
-        t, m = bench_effects(cfrd, efr, args.workdir, args.repeat)
-        out_text += ["", "(f) Tianshengqiao-I, the effects switched on one at a time", t]
-        out_md += ["**(f) Tianshengqiao-I, the effects switched on one at a time** (the "
-                   "EFFECTS card; the joint and contact decks of the same body mesh).", "",
-                   m, ""]
+    tianshengqiao_tables = (
+        (tsq, lambda: bench_tianshengqiao(cfrd, tsq, args.workdir, args.repeat,
+                                          args.tsq_newton_max),
+         "(d) Tianshengqiao-I, the whole 1996-1999 history",
+         "**(d) Tianshengqiao-I, the whole 1996-1999 history** (tools/tianshengqiao.py "
+         "meshes; midpoint as in the paper, Newton to 1e-10)."),
+        (ifr, lambda: bench_interfaces(cfrd, ifr, args.workdir, args.repeat),
+         "(e) Tianshengqiao-I, the interface methods on the same body mesh",
+         "**(e) Tianshengqiao-I, the interface methods** (bonded, Goodman joints, contact; "
+         "the same body mesh; sums over the stages)."),
+        (efr, lambda: bench_effects(cfrd, efr, args.workdir, args.repeat),
+         "(f) Tianshengqiao-I, the effects switched on one at a time",
+         "**(f) Tianshengqiao-I, the effects switched on one at a time** (the EFFECTS card; "
+         "the joint and contact decks of the same body mesh)."))
+    for levels, bench, title, caption in tianshengqiao_tables:
+        if cfrd and levels:
+            t, m = bench()
+            out_text += ["", title, t]
+            out_md += [caption, "", m, ""]
     print("\n".join(out_text))
     if args.markdown:
         with open(args.markdown, "w") as f:

@@ -75,25 +75,24 @@ def stages(h5):
 
 def unit_weights(deck_text):
     """Unit weight of each material from the MATERIALS group of a fixed-format deck: EB
-    cards give GAMMA in columns 1-10 of the first data card, ELASTIC in columns 21-30."""
-    weights, law, want = {}, None, False
-    group = None
+    cards give GAMMA in columns 1-10 of the first data card, ELASTIC in columns 21-30,
+    GOODMAN joints weigh nothing."""
+    columns = {"EB": (0, 10), "ELASTIC": (20, 30)}
+    weights, group, pending = {}, None, None
     for line in deck_text.split("\n"):
         if not line.strip() or line.startswith("*"):
             continue
         head = line[:10].strip().upper()
         if line[:1] != " " and head.isalpha():
             group = head
-            continue
-        if group != "MATERIALS":
-            continue
-        if line[5:15].strip().upper() in ("EB", "ELASTIC", "GOODMAN") and want is False:
-            number, law, want = int(line[:5]), line[5:15].strip().upper(), True
-            continue
-        if want:
-            cols = (0, 10) if law == "EB" else (20, 30)
-            weights[number] = float(line[cols[0]:cols[1]] or 0.0) if law != "GOODMAN" else 0.0
-            want = False
+        elif group == "MATERIALS" and pending is None and line[5:15].strip().upper() in (
+                "EB", "ELASTIC", "GOODMAN"):
+            pending = (int(line[:5]), line[5:15].strip().upper())
+        elif group == "MATERIALS" and pending is not None:
+            number, law = pending
+            a, b = columns.get(law, (0, 0))
+            weights[number] = float(line[a:b] or 0.0) if b else 0.0
+            pending = None
     return weights
 
 
@@ -124,18 +123,19 @@ def surface_elements(deck_text):
 def single_element(checker):
     """ROCKFILL LINEAR and UNLOAD OFF on one plane-strain element of IIIB at 500 kPa."""
     mat, s3 = "IIIB", 500.0
-    phi0, dphi, k, n, rf, kb, m = eb_reference.TABLE3[mat]
+    k, kb = eb_reference.TABLE3[mat][2], eb_reference.TABLE3[mat][5]
     qf = eb_reference.failure_deviator(mat, s3)
     base = eb_reference.cfrd_deck(mat, s3, 0.1 * qf, 9, 40)
-    control = "CONTROL\n"
+
+    def with_card(deck, card):       # the one-element deck has no CONTROL group
+        return deck.replace("NODES", "CONTROL\n" + card + "\nNODES", 1)
     # Linear: E = K pa, B = Kb pa bounded to [E/3, E/0.06], nu = (3B - E)/(6B); the deviator
     # steps at constant sigma_x in plane strain: d eps_y = (1 - nu^2) dq / E.
     pa = eb_reference.PA
     e = k * pa
     b = min(max(kb * pa, e / 3.0), e / (3.0 * (1.0 - 2.0 * eb_reference.NU_MAX)))
     nu = (3.0 * b - e) / (6.0 * b)
-    h5 = checker.run("linear", base.replace("NODES", control + effects_card(ROCKFILL="LINEAR")
-                                            + "\nNODES", 1))
+    h5 = checker.run("linear", with_card(base, effects_card(ROCKFILL="LINEAR")))
     st = stages(h5)
     eps = np.array([-s["displacement"][2, 1] for s in st[2:]])
     exact = (1.0 - nu * nu) * 0.1 * qf * np.arange(1, 10) / e
@@ -152,9 +152,7 @@ def single_element(checker):
                                           for i in range(6)) + "END\n", 1)
     results = {}
     for switch in ("OFF", "ON"):
-        h5 = checker.run(f"unload-{switch.lower()}",
-                         deck.replace("NODES", control + effects_card(UNLOAD=switch)
-                                      + "\nNODES", 1))
+        h5 = checker.run(f"unload-{switch.lower()}", with_card(deck, effects_card(UNLOAD=switch)))
         st = stages(h5)
         results[switch] = (-st[-1]["displacement"][2, 1],
                            float(np.max(np.abs(st[-1]["history_gauss"][..., 0]))))

@@ -34,28 +34,23 @@ contains
         character(len=:), allocatable, intent(out) :: message
         field = 0
         message = ''
-        associate (fx => model%effects)
-            if (.not. fx%nonlinear_rockfill) call linear_rockfill(model)
-            if (.not. fx%unload) call no_unloading(model)
-            if (.not. fx%water) call no_water(model)
-            if (.not. fx%interface) then
-                call bond_joints(model, message)
-                if (len(message) > 0) then
-                    field = effect_interface
-                    return
-                end if
+        if (.not. model%effects%nonlinear_rockfill) call linear_rockfill(model)
+        if (.not. model%effects%unload) call no_unloading(model)
+        if (.not. model%effects%water) call no_water(model)
+        if (.not. model%effects%interface) then
+            call bond_joints(model, message)
+            if (len(message) > 0) then
+                field = effect_interface
+                return
             end if
-            if (.not. fx%friction) call no_friction(model)
-            if (.not. fx%large_slip .and. .not. has_contact(model)) &
-                call warn(model, 'SLIP SMALL has no effect: the deck has no CONTACT pairs')
-            if (.not. fx%phases) then
-                call single_phase(model, message)
-                if (len(message) > 0) then
-                    field = effect_phases
-                    return
-                end if
-            end if
-        end associate
+        end if
+        if (.not. model%effects%friction) call no_friction(model)
+        if (.not. model%effects%large_slip .and. .not. has_contact(model)) &
+            call warn(model, 'SLIP SMALL has no effect: the deck has no CONTACT pairs')
+        if (.not. model%effects%phases) then
+            call single_phase(model, message)
+            if (len(message) > 0) field = effect_phases
+        end if
     end subroutine apply_effects
 
     subroutine linear_rockfill(model)
