@@ -10,6 +10,8 @@ program cfrd_tests
     use test_io_results, only: collect_io_results
     use test_analysis_rockfill, only: collect_analysis_rockfill
     use test_materials_eb, only: collect_materials_eb
+    use test_materials_creep, only: collect_materials_creep
+    use test_core_dates, only: collect_core_dates
     use test_analysis_water, only: collect_analysis_water
     use test_analysis_interface, only: collect_analysis_interface
     use test_contact_mortar, only: collect_contact_mortar
@@ -45,6 +47,14 @@ program cfrd_tests
     if (wanted('materials_eb')) then
         call collect_materials_eb(tests)
         call run_suite('materials_eb', tests, only_test, npass, nfail)
+    end if
+    if (wanted('core_dates')) then
+        call collect_core_dates(tests)
+        call run_suite('core_dates', tests, only_test, npass, nfail)
+    end if
+    if (wanted('materials_creep')) then
+        call collect_materials_creep(tests)
+        call run_suite('materials_creep', tests, only_test, npass, nfail)
     end if
     if (wanted('analysis_rockfill')) then
         call collect_analysis_rockfill(tests)
