@@ -93,7 +93,7 @@ cases = [
  ("reservoir-twice", sub("GRAVITY\n", "GRAVITY\nRESERVOIR\n    1    4\n    1    4\n"), "{f}:19: face 4 of element 1 is wetted twice (first at line 18)"),
  ("gauge-node", sub("GRAVITY\n", "GRAVITY\nGAUGES\n    9 C1-H5\n"), "{f}:18:1-5: field NODE of GAUGES: expected a node from 1 to 6, found '9'"),
  ("gauge-name-twice", sub("GRAVITY\n", "GRAVITY\nGAUGES\n    5 C1-H5\n    6 c1-h5\n"), "{f}:19:6-15: field NAME of GAUGES 6: expected a name not used before (line 18), found 'c1-h5'"),
- ("unknown-stage", sub("GRAVITY\n", "GRAVITY\nSTAGES\nFLOOD\n"), "{f}:18: unknown stage 'FLOOD' in STAGES: expected FILL, LOAD, RESET or WATER"),
+ ("unknown-stage", sub("GRAVITY\n", "GRAVITY\nSTAGES\nFLOOD\n"), "{f}:18: unknown stage 'FLOOD' in STAGES: expected FILL, LOAD, RESET, WATER or WAIT"),
 ]
 # A joint deck: two blocks (nodes 1-6 and 7-12) joined by joints between nodes 4-6 and 7-9.
 jbase = """TITLE     bad joint deck

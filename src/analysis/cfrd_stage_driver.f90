@@ -9,6 +9,7 @@ module cfrd_stage_driver
     use cfrd_clock, only: wall_seconds
     use cfrd_strings, only: to_text, real_text, fixed_text, level_text
     use cfrd_model, only: model_t, stage_fill, stage_load, stage_reset, stage_water, &
+                          stage_wait, no_date, has_creep, &
                           newtop_zero, solver_euler, solver_newton, dry_level
     use cfrd_results, only: results_t, stage_result_t, solver_stats_t
     use cfrd_sparse, only: sparse_pattern_t, build_pattern
@@ -27,6 +28,7 @@ module cfrd_stage_driver
                             contact_iteration_limit, contact_slip, contact_stick, &
                             contact_stick_excess
     use cfrd_contact_results, only: record_contact
+    use cfrd_creep_step, only: creep_relax, ncreep
     use cfrd_sparse, only: assemble_element
     implicit none
     private
@@ -58,6 +60,9 @@ module cfrd_stage_driver
         real(dp), allocatable :: f_ext(:, :)         !! (2, nnode) applied so far
         logical :: prescribed_done = .false.         !! BOUNDARY values applied
         real(dp) :: level = dry_level                !! reservoir level, m
+        !> (ncreep, ngauss, nelem) creep strains reached (only when some material creeps)
+        real(dp), allocatable :: creep(:, :, :)
+        real(dp) :: day = no_date                    !! the date reached, day number
         logical :: has_contact = .false.             !! the deck has CONTACT pairs
         type(contact_t) :: contact                   !! their state (docs/theory.md s. 14)
     end type state_t
@@ -155,6 +160,8 @@ contains
             allocate (state%stress(4, ngauss, mesh%nelem), source=0.0_dp)
             allocate (state%strain(4, ngauss, mesh%nelem), source=0.0_dp)
             allocate (state%history(nhistory, ngauss, mesh%nelem), source=0.0_dp)
+            if (has_creep(model)) allocate (state%creep(ncreep, ngauss, mesh%nelem), &
+                                            source=0.0_dp)
         end associate
     end subroutine initial_state
 
@@ -169,9 +176,9 @@ contains
         real(dp), allocatable :: stage_force(:, :), f_start(:, :), du_prescribed(:, :), &
                                  water_before(:, :), water_after(:, :)
         logical, allocatable :: was_used(:)
-        real(dp) :: t0, t1, levels(2)
+        real(dp) :: t0, t1, levels(2), dt
         integer :: nodes_before
-        logical :: dry
+        logical :: dry, creeps
 
         t0 = wall_seconds()
         associate (stage => model%stages(s), mesh => model%mesh)
@@ -182,8 +189,21 @@ contains
             nodes_before = count(was_used)
             allocate (water_before(2, mesh%nnode), water_after(2, mesh%nnode))
             levels = state%level
+            ! The stage spans the time from the last date reached to its own date; the
+            ! rockfill creeps over it in the stage's increments (docs/theory.md section 15).
+            dt = 0.0_dp
+            if (stage%day /= no_date) then
+                if (state%day /= no_date) dt = stage%day - state%day
+                state%day = stage%day
+            end if
+            creeps = allocated(state%creep) .and. dt > 0.0_dp
             select case (stage%kind)
             case (stage_reset)
+                ! Time that passes before the reset creeps first, under the loads as they are.
+                if (creeps) then
+                    call creep_only(error)
+                    if (allocated(error)) return
+                end if
                 state%u_before_reset = state%u_before_reset + state%u
                 state%u = 0.0_dp
             case (stage_fill)
@@ -216,7 +236,14 @@ contains
             ! A WATER stage without wetted faces (EFFECTS WATER OFF) only moves the level.
             dry = .true.
             if (allocated(model%wet_faces)) dry = size(model%wet_faces) == 0
-            if (stage%kind /= stage_reset .and. .not. (stage%kind == stage_water .and. dry)) then
+            if ((stage%kind == stage_water .and. dry) .or. &
+                (stage%kind == stage_wait .and. .not. creeps)) then
+                ! Nothing to solve but the creep of the time that passes (if any).
+                if (creeps) then
+                    call creep_only(error)
+                    if (allocated(error)) return
+                end if
+            else if (stage%kind /= stage_reset) then
                 if (stage%kind == stage_fill .or. .not. allocated(system%values)) then
                     t1 = wall_seconds()
                     call new_system(model, library, state%active, system, error, &
@@ -236,7 +263,7 @@ contains
                                     du_prescribed*stage%increments, stage%increments, s, &
                                     stage%label, result, error, &
                                     merge(levels, [dry_level, dry_level], &
-                                          stage%kind == stage_water))
+                                          stage%kind == stage_water), dt)
                 if (allocated(error)) return
                 ! New layer's own nodes: their displacement during placement is not counted
                 ! (NEWTOP = 0, docs/theory.md section 9).
@@ -250,8 +277,27 @@ contains
             result%date = ''
             if (allocated(stage%date)) result%date = stage%date
             result%water_level = state%level
+            result%day = state%day
             result%wall_time = wall_seconds() - t0
         end associate
+    contains
+        !> The creep of the stage's time span under the loads as they are, in the stage's
+        !> increments (a RESET, a WATER stage with nothing to wet, a WAIT).
+        subroutine creep_only(error)
+            type(error_t), allocatable, intent(out) :: error
+            real(dp), allocatable :: no_force(:, :)
+            if (.not. allocated(system%values)) then
+                call new_system(model, library, state%active, system, error, &
+                                state%contact, state%has_contact)
+                if (allocated(error)) return
+                result%stats%patterns = result%stats%patterns + 1
+            end if
+            allocate (no_force(2, model%mesh%nnode), source=0.0_dp)
+            call run_increments(model, library, state, system, state%f_ext, no_force, &
+                                no_force, model%stages(s)%increments, s, &
+                                model%stages(s)%label, result, error, &
+                                [dry_level, dry_level], dt)
+        end subroutine creep_only
     end subroutine run_stage
 
     !> The stage's load in `n` equal increments. An increment whose Newton iterations do not
@@ -260,7 +306,7 @@ contains
     !> stage's result. When `levels` is not dry the reservoir moves from levels(1) to
     !> levels(2) in the same steps, and its forces at the reached level join f_start.
     subroutine run_increments(model, library, state, system, f_start, stage_force, &
-                              du_stage, n, s, label, result, error, levels)
+                              du_stage, n, s, label, result, error, levels, dt)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(inout) :: state
@@ -271,7 +317,11 @@ contains
         type(stage_result_t), intent(inout) :: result
         type(error_t), allocatable, intent(out) :: error
         real(dp), intent(in) :: levels(2)
+        !> days the stage spans: the rockfill creeps over each increment's share of it
+        real(dp), intent(in) :: dt
         integer, parameter :: max_cutbacks = 6, max_growth = 64
+        real(dp), allocatable :: stress_before(:, :, :), creep_before(:, :, :)
+        logical :: creeps
         real(dp) :: done, step, nominal, level
         real(dp), allocatable :: f_water(:, :)
         integer :: cuts, k
@@ -293,9 +343,20 @@ contains
                 call water_forces(model, library, state%active, level, f_water)
                 context = context//', water level '//level_text(level)//' m'
             end if
+            creeps = allocated(state%creep) .and. dt > 0.0_dp
+            if (creeps) then
+                stress_before = state%stress
+                creep_before = state%creep
+                call creep_relax(model, library, state%active, dt*step, state%stress, &
+                                 state%strain, state%history, state%creep)
+            end if
             call solve_increment(model, library, state, system, &
                                  f_start + f_water + stage_force*(done + step), &
                                  du_stage*step, result, context, error)
+            if (allocated(error) .and. creeps) then
+                state%stress = stress_before
+                state%creep = creep_before
+            end if
             if (allocated(error)) then
                 if (index(error%message, 'no convergence') == 0) return
                 if (cuts == max_cutbacks) then
@@ -1146,6 +1207,7 @@ contains
             result%stress_gauss = state%stress
             result%strain_gauss = state%strain
             result%history_gauss = state%history
+            if (allocated(state%creep)) result%creep_gauss = state%creep
             if (allocated(model%interfaces)) then
                 call interface_stations(model, state%stress, state%strain, state%active, &
                                         result%interface)

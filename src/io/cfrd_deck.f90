@@ -6,7 +6,7 @@ module cfrd_deck
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, input_error
     use cfrd_model, only: model_t, mesh_t, material_t, gravity_load_t, pressure_load_t, load_set_t, &
-                          stage_t, stage_fill, stage_load, stage_reset, stage_water, &
+                          stage_t, stage_fill, stage_load, stage_reset, stage_water, stage_wait, &
                           wet_face_t, gauge_t, newtop_zero, &
                           newtop_count, solver_midpoint, solver_newton, &
                           plane_strain, axisymmetric, law_elastic, law_duncan_eb, law_goodman, &
@@ -14,7 +14,7 @@ module cfrd_deck
                           elem_joint_lobatto, is_joint_kind, &
                           interface_element_t, method_joint, method_thin, all_groups, &
                           contact_surface_t, contact_pair_t, scheme_mortar, scheme_nts, &
-                          search_linear, search_rpim, effects_t
+                          search_linear, search_rpim, effects_t, has_creep
     use cfrd_effects, only: apply_effects
     use cfrd_model_check, only: element_shape, first_unused_node, free_rigid_mode, &
                                 shape_ok, shape_degenerate, unplaced_load, layer_thickness
@@ -22,6 +22,7 @@ module cfrd_deck
                           read_deck_lines, classify_line, get_int, get_real, get_text, &
                           field_error, card_error, upper, is_comment, is_real, to_text
     use cfrd_strings, only: level_text
+    use cfrd_deck_time, only: is_creep_card, read_creep_card, date_reader_t
     implicit none
     private
 
@@ -44,12 +45,14 @@ module cfrd_deck
                                                      .false.]
     character(len=10), parameter :: load_keywords(3) = [character(len=10) :: 'GRAVITY', &
                                                         'FORCE', 'PRESSURE']
-    character(len=10), parameter :: stage_keywords(4) = [character(len=10) :: 'FILL', &
-                                                         'LOAD', 'RESET', 'WATER']
+    character(len=10), parameter :: stage_keywords(5) = [character(len=10) :: 'FILL', &
+                                                         'LOAD', 'RESET', 'WATER', 'WAIT']
     character(len=10), parameter :: contact_keywords(2) = [character(len=10) :: 'SURFACE', &
                                                            'PAIR']
     !> The card of CONTROL that lists the effects a deck asks for.
     character(len=*), parameter :: effects_keyword = 'EFFECTS'
+    !> The card of MATERIALS that gives an EB material its creep (after its two cards).
+    character(len=*), parameter :: creep_keyword = 'CREEP'
     !> At most this many named LOADS groups (load sets).
     integer, parameter :: max_load_sets = 1000
 
@@ -366,6 +369,7 @@ contains
                 end if
                 if (.not. ((current < 0 .and. any(load_keywords == word)) .or. &
                            (current == g_control .and. word == effects_keyword) .or. &
+                           (current == g_materials .and. word == creep_keyword) .or. &
                            (current == g_stages .and. any(stage_keywords == word)) .or. &
                            (current == g_contact .and. any(contact_keywords == word)))) then
                     if (current < 0) then
@@ -373,7 +377,7 @@ contains
                                         "' in LOADS: expected GRAVITY, FORCE or PRESSURE")
                     else if (current == g_stages) then
                         call card_error(error, lines%file, card, "unknown stage '"//word// &
-                                        "' in STAGES: expected FILL, LOAD, RESET or WATER")
+                                        "' in STAGES: expected FILL, LOAD, RESET, WATER or WAIT")
                     else if (current == g_contact) then
                         call card_error(error, lines%file, card, "unknown card '"//word// &
                                         "' in CONTACT: expected SURFACE or PAIR")
@@ -443,7 +447,7 @@ contains
         if (card%text(1:1) == ' ' .and. .not. (word == 'END' .or. word == 'STOP' .or. &
             any(group_keywords == word) .or. any(load_keywords == word) .or. &
             any(stage_keywords == word) .or. any(contact_keywords == word) .or. &
-            word == effects_keyword)) word = ''
+            word == effects_keyword .or. word == creep_keyword)) word = ''
     end function leading_word
 
     subroutine append_card(group, card)
@@ -645,6 +649,18 @@ contains
         limit = merge(counts%nmat, group%n, counts%nmat > 0)
         do while (i <= group%n)
             associate (card => group%cards(i))
+                if (is_creep_card(card)) then
+                    ctx = 'a CREEP card follows the two parameter cards of an EB material'
+                    if (n > 0) then
+                        if (mats(n)%law == law_duncan_eb) then
+                            ctx = ctx//' (MATERIALS '//to_text(number(n))//' has one already)'
+                        else
+                            ctx = ctx//' (MATERIALS '//to_text(number(n))//' is not EB)'
+                        end if
+                    end if
+                    call card_error(error, file, card, ctx)
+                    return
+                end if
                 call get_int(file, card, material_fields, 1, 'MATERIALS', 0, m, error)
                 if (allocated(error)) return
                 ctx = 'MATERIALS '//to_text(m)
@@ -679,6 +695,13 @@ contains
                 call read_eb_cards(file, group, i, m, model%pa, mats(n), error)
                 if (allocated(error)) return
                 i = i + 3
+                if (i <= group%n) then
+                    if (is_creep_card(group%cards(i))) then
+                        call read_creep_card(file, group%cards(i), m, mats(n), error)
+                        if (allocated(error)) return
+                        i = i + 1
+                    end if
+                end if
                 cycle
             end if
             if (mats(n)%law == law_goodman) then
@@ -1640,8 +1663,10 @@ contains
         type(error_t), allocatable, intent(out) :: error
         character(len=:), allocatable :: keyword, name, date, label, ctx
         integer :: i, k, g
-        logical :: given
+        logical :: given, creeping
         logical, allocatable :: filled(:)
+        type(date_reader_t) :: dates
+        creeping = has_creep(model)
         if (.not. group%present) then
             allocate (model%stages(1))
             model%stages(1)%label = 'LOADS'
@@ -1663,6 +1688,11 @@ contains
                 ctx = 'STAGES '//keyword
                 call get_text(card, stage_fields, 4, date)
                 call get_text(card, stage_fields, 5, label)
+                ! A date in a date form gives the stage its time; free text is a label,
+                ! except where time matters (a WAIT stage, a deck with CREEP cards).
+                call dates%read(file, card, stage_fields, 4, ctx, date, &
+                                keyword == 'WAIT' .or. creeping, stage%day, error)
+                if (allocated(error)) return
                 stage%date = date
                 stage%label = keyword
                 if (len(date) > 0) stage%label = stage%label//' '//date
@@ -1704,6 +1734,13 @@ contains
                     if (len(name) > 0) stage%label = 'LOAD '//name//stage%label(5:)
                 case ('RESET')
                     stage%kind = stage_reset
+                case ('WAIT')
+                    stage%kind = stage_wait
+                    if (len(date) == 0) then
+                        call field_error(error, file, card, stage_fields, 4, ctx, &
+                                         'the date to wait until (WAIT needs a date)', '')
+                        return
+                    end if
                 case ('WATER')
                     stage%kind = stage_water
                     if (size(model%wet_faces) == 0) then
@@ -1722,7 +1759,7 @@ contains
                     stage%label = 'WATER '//level_text(stage%level)//stage%label(6:)
                 case default
                     call card_error(error, file, card, "unknown stage '"//keyword// &
-                                    "' in STAGES: expected FILL, LOAD, RESET or WATER")
+                                    "' in STAGES: expected FILL, LOAD, RESET, WATER or WAIT")
                     return
                 end select
                 call get_int(file, card, stage_fields, 3, ctx, 1, stage%increments, error)

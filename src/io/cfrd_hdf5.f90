@@ -199,6 +199,9 @@ contains
                       st)
         if (stage%water_level /= dry_level) &
             call attr_real(stage_id, 'water_level', [stage%water_level], st)
+        ! The date as a day number since 1970-01-01, for time-dependent results (decks
+        ! whose stage dates are in a date form; docs/results.md).
+        if (stage%day > -huge(1.0_dp)) call attr_real(stage_id, 'day', [stage%day], st)
         call attr_int(stage_id, 'increments', stage%increments, st)
         call attr_int(stage_id, 'factorisations', stage%factorisations, st)
         call attr_int(stage_id, 'iterations', stage%iterations, st)
@@ -240,6 +243,11 @@ contains
                                'past maximum of the E-B stress-state function SS = SL '// &
                                '(sigma3/pa)^(1/4), past maximum of the stress level SL '// &
                                '(zero for other laws)', st)
+        if (allocated(stage%creep_gauss)) &
+            call dataset_real3(stage_id, 'creep_gauss', stage%creep_gauss, '-', &
+                               'volumetric and generalised shear creep strain reached '// &
+                               '(compression positive; zero where the material does not '// &
+                               'creep)', st)
         call write_interface_stage(stage_id, file, stage, st)
         call open_group(stage_id, 'solver', solver_id, st)
         call attr_int(solver_id, 'neq', stage%stats%neq, st)

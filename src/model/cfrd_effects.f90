@@ -45,6 +45,7 @@ contains
             end if
         end if
         if (.not. model%effects%friction) call no_friction(model)
+        if (.not. model%effects%creep) call no_creep(model)
         if (.not. model%effects%large_slip .and. .not. has_contact(model)) &
             call warn(model, 'SLIP SMALL has no effect: the deck has no CONTACT pairs')
         if (.not. model%effects%phases) then
@@ -72,6 +73,17 @@ contains
         if (n == 0) call warn(model, 'ROCKFILL LINEAR has no effect: the deck has no EB '// &
                               'material')
     end subroutine linear_rockfill
+
+    !> CREEP OFF: the CREEP cards are read and checked, and ignored.
+    subroutine no_creep(model)
+        type(model_t), intent(inout) :: model
+        integer :: m
+        if (.not. any(model%materials%creep)) &
+            call warn(model, 'CREEP OFF has no effect: the deck has no CREEP card')
+        do m = 1, size(model%materials)
+            model%materials(m)%creep = .false.
+        end do
+    end subroutine no_creep
 
     subroutine no_unloading(model)
         type(model_t), intent(inout) :: model

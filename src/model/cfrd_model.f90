@@ -8,7 +8,8 @@ module cfrd_model
     private
 
     public :: model_t, mesh_t, material_t, gravity_load_t, pressure_load_t, load_set_t
-    public :: stage_t, stage_fill, stage_load, stage_reset, stage_water, stage_kind_name
+    public :: stage_t, stage_fill, stage_load, stage_reset, stage_water, stage_wait
+    public :: stage_kind_name, no_date, has_creep
     public :: wet_face_t, gauge_t, dry_level
     public :: plane_strain, axisymmetric, law_elastic, law_duncan_eb, law_goodman, all_groups
     public :: elem_quad4, elem_quad4_shear, elem_joint_gauss, elem_joint_lobatto, is_joint_kind
@@ -32,6 +33,10 @@ module cfrd_model
     integer, parameter :: stage_load = 2    !! apply a load set
     integer, parameter :: stage_reset = 3   !! zero the displacements, keep the stresses
     integer, parameter :: stage_water = 4   !! raise or lower the reservoir to a level
+    integer, parameter :: stage_wait = 5    !! let time pass with no load (creep)
+
+    !> The day number of a stage without a date (or with a free-text one): no time passes.
+    real(dp), parameter :: no_date = -huge(1.0_dp)
 
     !> The reservoir level before any WATER stage: below everything (no water).
     real(dp), parameter :: dry_level = -huge(1.0_dp)
@@ -92,6 +97,12 @@ module cfrd_model
         !> E-B: the unload-reload modulus where the stress state falls below its past
         !> maximum (off by the EFFECTS card: the loading modulus always, no history kept)
         logical :: unload = .true.
+        !> E-B: time-dependent deformation (the CREEP card, docs/theory.md section 15):
+        !> decay rate alpha (1/day), final volumetric strain b and exponent mc of sigma3/pa,
+        !> final shear strain d and exponent l of S/(1 - S)
+        logical :: creep = .false.
+        real(dp) :: creep_alpha = 0.0_dp, creep_b = 0.0_dp, creep_mc = 0.0_dp
+        real(dp) :: creep_d = 0.0_dp, creep_l = 0.0_dp
     end type material_t
 
     !> One element of an interface line (INTERFACE cards): a joint or a thin-layer quad
@@ -191,6 +202,9 @@ module cfrd_model
         integer :: increments = 1
         character(len=:), allocatable :: label
         character(len=:), allocatable :: date   !! calendar date as written, may be ''
+        !> the date as a day number (cfrd_dates), no_date for a blank or free-text date;
+        !> a stage spans the time from the last dated stage before it to its own date
+        real(dp) :: day = no_date
         integer :: line = 0           !! deck line, for messages
     end type stage_t
 
@@ -205,6 +219,7 @@ module cfrd_model
         logical :: friction = .true.            !! Coulomb friction of the CONTACT pairs
         logical :: large_slip = .true.          !! contact geometry at every increment
         logical :: phases = .true.              !! slab cast in its phases (off: at once)
+        logical :: creep = .true.               !! CREEP cards of the EB materials
         integer :: line = 0                     !! deck line of the EFFECTS card, 0 = none
     end type effects_t
 
@@ -301,8 +316,17 @@ contains
             name = 'RESET'
         case (stage_water)
             name = 'WATER'
+        case (stage_wait)
+            name = 'WAIT'
         case default
             name = 'UNKNOWN'
         end select
     end function stage_kind_name
+
+    !> Whether some material of the model creeps (then the state keeps creep strains).
+    pure logical function has_creep(model)
+        type(model_t), intent(in) :: model
+        has_creep = .false.
+        if (allocated(model%materials)) has_creep = any(model%materials%creep)
+    end function has_creep
 end module cfrd_model

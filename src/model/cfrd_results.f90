@@ -127,6 +127,10 @@ module cfrd_results
         integer :: near_failure = 0                !! elements with stress level >= 0.95
         character(len=:), allocatable :: date      !! the stage's calendar date, may be ''
         real(dp) :: water_level = 0.0_dp           !! reservoir level at the end, m (dry_level: empty)
+        !> the date reached, as a day number since 1970-01-01 (-huge: no dated stage yet)
+        real(dp) :: day = -huge(1.0_dp)
+        !> (2, ngauss, nelem) volumetric and shear creep strains reached (decks with CREEP)
+        real(dp), allocatable :: creep_gauss(:, :, :)
         real(dp), allocatable :: displacement(:, :)   !! (2, nnode) m, since the last RESET
         !> (2, nnode) m, since each node's placement: the displacements set to zero by
         !> RESET stages are added back (what a gauge installed with the fill measures)
