@@ -189,6 +189,29 @@ cases += [
  ("effects-twice", sub("    6    2    1\n", "    6    2    1\nEFFECTS   LINEAR\nEFFECTS             OFF\n"), "{f}:6: CONTROL takes one EFFECTS card (the first is at line 5)"),
  ("effects-phases", sub("    6    2    1\n", "    6    2    1\nEFFECTS" + " " * 63 + "OFF\n"), "{f}:5:71-80: field PHASES of CONTROL EFFECTS: expected an effect this deck can switch (PHASES OFF needs the SLAB cards that name the slab's element groups), found 'OFF'"),
 ]
+# Time-dependent analysis (issue 19): the CREEP card of an EB material and the stage dates.
+tbase = base.replace("    1ELASTIC   soil\n   20000.0       0.3      20.0\n",
+                     "    1EB        rockfill\n      20.0     564.0      0.35      0.85     204.0"
+                     "      0.18\n      51.0      13.0\n"
+                     "CREEP         0.01     0.002       0.5     0.004       1.0\n").replace(
+    "LOADS\nGRAVITY\n", "STAGES\nFILL      SOIL          11997-05-01\n"
+                        "WAIT                    41998-05-01\n")
+# lines: ... MATERIALS 10, EB cards 11-13, CREEP 14, BOUNDARY 15, bc 16, STAGES 17,
+# FILL 18, WAIT 19, END 20
+CREEP = "CREEP         0.01     0.002       0.5     0.004       1.0"
+def tsub(old, new):
+    assert old in tbase, old
+    return tbase.replace(old, new, 1)
+cases += [
+ ("creep-not-eb", sub("   20000.0       0.3      20.0\n", "   20000.0       0.3      20.0\n" + CREEP + "\n"), "{f}:13: a CREEP card follows the two parameter cards of an EB material (MATERIALS 1 is not EB)"),
+ ("creep-alpha-negative", tsub(CREEP, CREEP.replace("      0.01", "     -0.01")), "{f}:14:11-20: field ALPHA of MATERIALS 1 CREEP: expected a real with 0 < ALPHA <= 1 (1/day), found '-0.01'"),
+ ("creep-b-absurd", tsub(CREEP, CREEP.replace("     0.002", "       0.2")), "{f}:14:21-30: field B of MATERIALS 1 CREEP: expected a real with 0 <= B <= 0.05, found '0.2'"),
+ ("creep-exponent", tsub(CREEP, CREEP.replace("       1.0", "          ")), "{f}:14:51-60: field L of MATERIALS 1 CREEP: expected a real with 0 < L <= 3, found ''"),
+ ("dates-backwards", tsub("WAIT                    41998-05-01", "WAIT                    41996-05-01"), "{f}:19:26-35: field DATE of STAGES WAIT: expected a date not before 1997-05-01 (line 18): stages go forwards in time, found '1996-05-01'"),
+ ("wait-no-date", tsub("WAIT                    41998-05-01", "WAIT                    4"), "{f}:19:26-35: field DATE of STAGES WAIT: expected the date to wait until (WAIT needs a date), found ''"),
+ ("creep-free-text-date", tsub("FILL      SOIL          11997-05-01", "FILL      SOIL          1May 1997"), "{f}:18:26-35: field DATE of STAGES FILL: expected a date YYYY-MM-DD, YYYY.MM or YYYY-MM, found 'May 1997'"),
+ ("date-impossible", tsub("WAIT                    41998-05-01", "WAIT                    41998-02-30"), "{f}:19:26-35: field DATE of STAGES WAIT: expected a date YYYY-MM-DD, YYYY.MM or YYYY-MM, found '1998-02-30'"),
+]
 for old in os.listdir(P):
     os.remove(P + old)
 for i, (name, deck, expect) in enumerate(cases, 1):

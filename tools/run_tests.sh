@@ -115,6 +115,10 @@ tool_checks "eb plane strain" python3 tools/eb_reference.py --check-cfrd "$cfrd"
 # scipy's E-B integration or an equivalent deck; no contact search in a deck without contact.
 tool_checks "effects" python3 tools/check_effects.py --cfrd "$cfrd" --workdir "$work/effects"
 
+# Rockfill creep (issue 19; docs/theory.md section 15): a triaxial element against the closed
+# form, the first-order convergence of the time steps, a layered column against scipy.
+tool_checks "creep" python3 tools/check_creep.py --cfrd "$cfrd" --workdir "$work/creep"
+
 tool_checks "tianshengqiao" python3 tools/check_tianshengqiao.py --run "$cfrd" \
     --workdir "$work/tianshengqiao"
 # The XDMF file read back through an independent reader (meshio) against the HDF5 datasets.

@@ -37,6 +37,8 @@ CLI:
 """
 
 import argparse
+import calendar
+import datetime
 import copy
 import math
 import re
@@ -84,6 +86,8 @@ class Geometry:
                                      item.get("note", "")))
         for key, item in self.raw["materials"].items():
             self.sources.append((f"materials.{key}", item["label"], item["source"], ""))
+
+    creep = False   # --creep: CREEP cards, day dates, WAIT stages ([creep] of the file)
 
     def v(self, group, key):
         return self.raw[group][key]["value"]
@@ -491,8 +495,58 @@ def month_in(dates, k, n):
     return f"{m // 12}.{m % 12 + 1:02d}"
 
 
+def creep_history(geo, stages):
+    """The stages of a deck with creep (--creep): time matters, so the months of the stages
+    become days (YYYY-MM-DD): the k stages of one month, in their order, at the ends of k
+    equal parts of it, the last on its last day; a RESET on the day of the slab phase it
+    prepares [choice]. Then WAIT stages, one a year, to [creep] wait_until."""
+    dated = [st for st in stages if st[0] != "RESET"]
+    per_month = {}
+    for st in dated:
+        per_month.setdefault(st[3], []).append(st)
+    day_of = {}
+    for month, group in per_month.items():
+        year, mon = int(month[:4]), int(month[5:7])
+        days = calendar.monthrange(year, mon)[1]
+        for i, st in enumerate(group):
+            day_of[id(st)] = f"{year:04d}-{mon:02d}-{max(1, round((i + 1) * days / len(group))):02d}"
+    out = []
+    for k, st in enumerate(stages):
+        if st[0] == "RESET":
+            follower = next(x for x in stages[k + 1:] if x[0] != "RESET")
+            out.append(st[:3] + (day_of[id(follower)],) + st[4:])
+        else:
+            out.append(st[:3] + (day_of[id(st)],) + st[4:])
+    last = datetime.date.fromisoformat(out[-1][3])
+    until = datetime.date.fromisoformat(geo.v("creep", "wait_until"))
+    steps = geo.v("creep", "wait_steps")
+    year = last.year
+    while True:
+        end = min(datetime.date(year, 12, 31), until)
+        if end > last:
+            out.append(("WAIT", "", steps, end.isoformat(),
+                        f"time passes to {end.isoformat()} (creep) [choice]"))
+        if end >= until:
+            break
+        year += 1
+    return out
+
+
 def snap(y_lines, level):
     return float(y_lines[int(np.argmin(np.abs(y_lines - level)))])
+
+
+def creep_notes(geo):
+    """Header lines of a creep deck: each zone's creep parameters with their source."""
+    lines = ["creep: Shen's exponential-decay law with Li's final strains (docs/theory.md"
+             " section 15); time from the stage dates"]
+    for zone, c in geo.raw["creep"]["materials"].items():
+        lines.append(f"creep {zone}: alpha {c['alpha']:g}/day, b {c['b']:g}, mc {c['mc']:g},"
+                     f" d {c['d']:g}, l {c['l']:g} [{c['source']}] {c.get('note', '')}")
+    for key in ("wait_until", "wait_steps"):
+        item = geo.raw["creep"][key]
+        lines.append(f"creep.{key} = {item['value']} [{item['source']}] {item.get('note', '')}")
+    return lines
 
 
 def plan_history(geo, mesh):
@@ -817,6 +871,11 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
             + fmt_real(p["n"]) + fmt_real(p["Rf"]) + fmt_real(p["Kb"]) + fmt_real(p["m"]))
         add("*     PHI0      DPHI         C   SIG3MIN")
         add(fmt_real(p["phi0"]) + fmt_real(p["dphi"]) + fmt_real(0.0))
+        if geo.creep:
+            c = geo.raw["creep"]["materials"][zone]
+            add("*KEYWORD      ALPHA         B        MC         D         L")
+            add(fmt_alpha("CREEP") + "".join(fmt_real(c[k]) for k in ("alpha", "b", "mc", "d",
+                                                                        "l")))
     add(fmt_int(SLAB_MATERIAL) + fmt_alpha("ELASTIC") + "face slab, concrete")
     add(fmt_real(geo.v("slab", "youngs_modulus")) + fmt_real(geo.v("slab", "poisson_ratio"))
         + fmt_real(geo.v("slab", "unit_weight")))
@@ -907,6 +966,9 @@ def generate(r, geo=None, interface="bonded", face=None, face_band=6):
     mesh = build_x1(geo, interface)
     assign_zones(geo, mesh)
     stages, notes = plan_history(geo, mesh)
+    if geo.creep:
+        stages = creep_history(geo, stages)
+        notes = notes + creep_notes(geo)
     if face is not None:
         fine = refine(mesh, r, face_split(r, face, face_band))
         notes = notes + [f"face-resolved mesh (--face {face} --face-band {face_band}): every"
@@ -969,8 +1031,13 @@ def main(argv=None):
                         help="with --face: the first N body columns from the upstream face"
                              " (1: IIA, 2: IIA and IIIA, more: IIIB columns of about 11.6 m"
                              " at x1; default 6, 54 m) divided in FACE too")
+    parser.add_argument("--creep", action="store_true",
+                        help="time-dependent rockfill deformation: a CREEP card for every"
+                             " zone ([creep] of the geometry file), stage dates in days and"
+                             " WAIT stages to [creep] wait_until (docs/tianshengqiao.md s. 9)")
     args = parser.parse_args(argv)
     geo = Geometry(args.geometry)
+    geo.creep = args.creep
     if args.top_rows is not None:
         geo.top_rows = args.top_rows
     if args.knee and args.refine is not None:

@@ -1,10 +1,11 @@
 !> The creep of one time step at every Gauss point of the active creeping elements
 !> (docs/theory.md section 15), by the initial-strain method: the creep strain increment
-!> of the step follows from the state at the step's start (cfrd_rockfill_creep: exact in
-!> time for that stress), and the stresses relax by D(sigma) d_eps_creep. The out-of-balance
-!> force this leaves joins the increment's load, so that the increment's solve turns it
-!> into displacements in the same step (the stress update then adds D d_eps of the total
-!> strain: sigma_end = sigma + D (d_eps - d_eps_creep)).
+!> d_eps_c of the step follows from the state at the step's start (cfrd_rockfill_creep:
+!> exact in time for that stress). The increment's solve takes the load D d_eps_c (the
+!> stresses the creep would relax) into its out-of-balance force, and the stress update
+!> integrates the law over the mechanical strain d_eps - d_eps_c from the start stress:
+!> where the loads fix the stresses, the strain increment is then the creep strain whatever
+!> the tangent (no artificial excursion of a stress-dependent tangent).
 module cfrd_creep_step
     use cfrd_kinds, only: dp
     use cfrd_model, only: model_t, material_t
@@ -15,7 +16,7 @@ module cfrd_creep_step
     implicit none
     private
 
-    public :: creep_relax, creep_parameters
+    public :: creep_strains, creep_parameters
 
     !> Creep state per Gauss point: (1) volumetric and (2) generalised shear creep strain
     !> reached, compression positive.
@@ -33,19 +34,23 @@ contains
     end function creep_parameters
 
     !> Advance the creep of the active creeping elements by dt days: `creep` (ncreep,
-    !> ngauss, nelem) grows and `stress` relaxes by the tangent times the creep strain
-    !> increment (the law's tangent at the start stress, with its history).
-    subroutine creep_relax(model, library, active, dt, stress, strain, history, creep)
+    !> ngauss, nelem) grows; d_creep (4, ngauss, nelem) is the step's creep strain (zero
+    !> elsewhere) and creep_stress the stresses it would relax, D d_creep with the law's
+    !> tangent at the start stress and history.
+    subroutine creep_strains(model, library, active, dt, stress, strain, history, creep, &
+                             d_creep, creep_stress)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         logical, intent(in) :: active(:)
         real(dp), intent(in) :: dt
-        real(dp), intent(inout) :: stress(:, :, :)
-        real(dp), intent(in) :: strain(:, :, :), history(:, :, :)
+        real(dp), intent(in) :: stress(:, :, :), strain(:, :, :), history(:, :, :)
         real(dp), intent(inout) :: creep(:, :, :)
-        real(dp) :: d(4, 4), d_creep(4)
+        real(dp), intent(out) :: d_creep(:, :, :), creep_stress(:, :, :)
+        real(dp) :: d(4, 4)
         type(eb_state_t) :: law_state
         integer :: e, ig
+        d_creep = 0.0_dp
+        creep_stress = 0.0_dp
         do e = 1, model%mesh%nelem
             if (.not. active(e)) cycle
             associate (mat => model%materials(model%mesh%material(e)))
@@ -57,12 +62,12 @@ contains
                     call creep_strain_increment(creep_parameters(mat, model%pa), &
                                                 stress(:, ig, e), law_state%sigma3, &
                                                 law_state%level, dt, creep(1, ig, e), &
-                                                creep(2, ig, e), d_creep)
+                                                creep(2, ig, e), d_creep(:, ig, e))
                     call material_tangent(mat, model%pa, stress(:, ig, e), strain(:, ig, e), &
                                           history(:, ig, e), d)
-                    stress(:, ig, e) = stress(:, ig, e) - matmul(d, d_creep)
+                    creep_stress(:, ig, e) = matmul(d, d_creep(:, ig, e))
                 end do
             end associate
         end do
-    end subroutine creep_relax
+    end subroutine creep_strains
 end module cfrd_creep_step

@@ -28,7 +28,7 @@ module cfrd_stage_driver
                             contact_iteration_limit, contact_slip, contact_stick, &
                             contact_stick_excess
     use cfrd_contact_results, only: record_contact
-    use cfrd_creep_step, only: creep_relax, ncreep
+    use cfrd_creep_step, only: creep_strains, ncreep
     use cfrd_sparse, only: assemble_element
     implicit none
     private
@@ -62,6 +62,9 @@ module cfrd_stage_driver
         real(dp) :: level = dry_level                !! reservoir level, m
         !> (ncreep, ngauss, nelem) creep strains reached (only when some material creeps)
         real(dp), allocatable :: creep(:, :, :)
+        !> (4, ngauss, nelem) the creep strain of the increment being solved, and D times it
+        !> (the load it puts on the increment); zero outside creeping increments
+        real(dp), allocatable :: creep_step(:, :, :), creep_stress(:, :, :)
         real(dp) :: day = no_date                    !! the date reached, day number
         logical :: has_contact = .false.             !! the deck has CONTACT pairs
         type(contact_t) :: contact                   !! their state (docs/theory.md s. 14)
@@ -160,8 +163,11 @@ contains
             allocate (state%stress(4, ngauss, mesh%nelem), source=0.0_dp)
             allocate (state%strain(4, ngauss, mesh%nelem), source=0.0_dp)
             allocate (state%history(nhistory, ngauss, mesh%nelem), source=0.0_dp)
-            if (has_creep(model)) allocate (state%creep(ncreep, ngauss, mesh%nelem), &
-                                            source=0.0_dp)
+            if (has_creep(model)) then
+                allocate (state%creep(ncreep, ngauss, mesh%nelem), source=0.0_dp)
+                allocate (state%creep_step(4, ngauss, mesh%nelem), source=0.0_dp)
+                allocate (state%creep_stress(4, ngauss, mesh%nelem), source=0.0_dp)
+            end if
         end associate
     end subroutine initial_state
 
@@ -320,7 +326,7 @@ contains
         !> days the stage spans: the rockfill creeps over each increment's share of it
         real(dp), intent(in) :: dt
         integer, parameter :: max_cutbacks = 6, max_growth = 64
-        real(dp), allocatable :: stress_before(:, :, :), creep_before(:, :, :)
+        real(dp), allocatable :: creep_before(:, :, :)
         logical :: creeps
         real(dp) :: done, step, nominal, level
         real(dp), allocatable :: f_water(:, :)
@@ -345,17 +351,19 @@ contains
             end if
             creeps = allocated(state%creep) .and. dt > 0.0_dp
             if (creeps) then
-                stress_before = state%stress
                 creep_before = state%creep
-                call creep_relax(model, library, state%active, dt*step, state%stress, &
-                                 state%strain, state%history, state%creep)
+                call creep_strains(model, library, state%active, dt*step, state%stress, &
+                                   state%strain, state%history, state%creep, &
+                                   state%creep_step, state%creep_stress)
             end if
             call solve_increment(model, library, state, system, &
                                  f_start + f_water + stage_force*(done + step), &
                                  du_stage*step, result, context, error)
-            if (allocated(error) .and. creeps) then
-                state%stress = stress_before
-                state%creep = creep_before
+            if (creeps) then
+                ! the step's creep is spent (or, after no convergence, undone)
+                if (allocated(error)) state%creep = creep_before
+                state%creep_step = 0.0_dp
+                state%creep_stress = 0.0_dp
             end if
             if (allocated(error)) then
                 if (index(error%message, 'no convergence') == 0) return
@@ -676,6 +684,7 @@ contains
         type(error_t), allocatable, intent(out) :: error
         real(dp), allocatable :: du(:, :), stress_end(:, :, :), stress_mid(:, :, :)
         real(dp) :: residual, load_norm, recent, t0
+        real(dp), allocatable :: rhs_stress(:, :, :)
         integer :: iteration
         type(contact_t), allocatable :: contact
         logical :: changed, searched
@@ -702,24 +711,30 @@ contains
         call factorise_at(model, library, state, state%stress, system, result, context, error, &
                           contact=contact)
         if (allocated(error)) return
-        call solve_out_of_balance(model, library, state, state%stress, f_target, du_prescribed, &
+        ! With creep the start stresses less the stresses the increment's creep relaxes: the
+        ! creep load joins the out-of-balance force (cfrd_creep_step).
+        rhs_stress = state%stress
+        if (allocated(state%creep_stress)) rhs_stress = rhs_stress - state%creep_stress
+        call solve_out_of_balance(model, library, state, rhs_stress, f_target, du_prescribed, &
                                   system, du, result, context, error, contact)
         if (allocated(error)) return
         if (model%solver == solver_euler .or. system%factorised_linear .or. &
             (state%has_contact .and. all_linear(model, state%active))) then
             ! Euler; or a linear law, for which the midpoint step would repeat the same solve.
-            call integrate_stress(model, library, state, du, stress_end, stress_mid, .false.)
+            call integrate_stress(model, library, state, du, stress_end, stress_mid, .false., &
+                                  creep_share=1.0_dp)
         else
             ! Midpoint: stresses half-way, the tangent there, and the increment again.
             call integrate_stress(model, library, state, 0.5_dp*du, stress_mid, stress_end, &
-                                  .false.)
+                                  .false., creep_share=0.5_dp)
             call factorise_at(model, library, state, stress_mid, system, result, context, &
                               error, contact=contact)
             if (allocated(error)) return
-            call solve_out_of_balance(model, library, state, state%stress, f_target, &
+            call solve_out_of_balance(model, library, state, rhs_stress, f_target, &
                                       du_prescribed, system, du, result, context, error, contact)
             if (allocated(error)) return
-            call integrate_stress(model, library, state, du, stress_end, stress_mid, .true.)
+            call integrate_stress(model, library, state, du, stress_end, stress_mid, .true., &
+                                  creep_share=1.0_dp)
         end if
         residual = out_of_balance(model, library, state%active, stress_end, f_target, &
                                   system%dofmap, contact)/load_norm
@@ -772,7 +787,7 @@ contains
                     do halving = 0, 6
                         du_try = du + step*ddu
                         call integrate_stress(model, library, state, du_try, stress_try, &
-                                              stress_mid, .true.)
+                                              stress_mid, .true., creep_share=1.0_dp)
                         trial = out_of_balance(model, library, state%active, stress_try, &
                                                f_target, system%dofmap, contact)/load_norm
                         if (trial < residual .or. state%has_contact) exit
@@ -1068,7 +1083,7 @@ contains
     !> the midpoint when `midpoint` (docs/theory.md sections 9 and 12). `stress_mid`
     !> returns the half-way stresses of that integration.
     subroutine integrate_stress(model, library, state, du, stress_end, stress_mid, midpoint, &
-                                stress)
+                                stress, creep_share)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(in) :: state
@@ -1076,6 +1091,9 @@ contains
         real(dp), allocatable, intent(out) :: stress_end(:, :, :), stress_mid(:, :, :)
         logical, intent(in) :: midpoint
         real(dp), intent(in), optional :: stress(:, :, :)
+        !> the share of the increment's creep strain in du (1 for the whole increment, 0.5
+        !> for its half): the law integrates the mechanical strain, du's less the creep's
+        real(dp), intent(in), optional :: creep_share
         real(dp) :: strain(4, ngauss), start(4)
         integer :: e, ng, ig
         if (present(stress)) then
@@ -1087,6 +1105,8 @@ contains
         do e = 1, model%mesh%nelem
             if (.not. state%active(e)) cycle
             call element_strains(model, library, e, du, strain, ng)
+            if (present(creep_share) .and. allocated(state%creep_step)) &
+                strain(:, 1:ng) = strain(:, 1:ng) - creep_share*state%creep_step(:, 1:ng, e)
             do ig = 1, ng
                 start = stress_end(:, ig, e)
                 call material_update(model%materials(model%mesh%material(e)), model%pa, &
@@ -1122,6 +1142,8 @@ contains
         do e = 1, model%mesh%nelem
             if (.not. state%active(e)) cycle
             call element_strains(model, library, e, du, strain, ng)
+            if (allocated(state%creep_step)) strain(:, 1:ng) = strain(:, 1:ng) - &
+                                                              state%creep_step(:, 1:ng, e)
             do ig = 1, ng
                 call material_update_tangent(model%materials(model%mesh%material(e)), &
                                              model%pa, state%stress(:, ig, e), &
