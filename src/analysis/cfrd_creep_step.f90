@@ -59,12 +59,15 @@ contains
                     ! sigma3 and the stress level of the E-B law at this point
                     call eb_tangent(eb_parameters(mat, model%pa), stress(:, ig, e), &
                                     history(1, ig, e), d, law_state)
+                    ! the tangent that relaxes the stresses: bulk and shear moduli
+                    call material_tangent(mat, model%pa, stress(:, ig, e), strain(:, ig, e), &
+                                          history(:, ig, e), d)
                     call creep_strain_increment(creep_parameters(mat, model%pa), &
                                                 stress(:, ig, e), law_state%sigma3, &
                                                 law_state%level, dt, creep(1, ig, e), &
-                                                creep(2, ig, e), d_creep(:, ig, e))
-                    call material_tangent(mat, model%pa, stress(:, ig, e), strain(:, ig, e), &
-                                          history(:, ig, e), d)
+                                                creep(2, ig, e), d_creep(:, ig, e), &
+                                                bulk=(d(1, 1) + 2.0_dp*d(1, 2))/3.0_dp, &
+                                                shear=d(4, 4))
                     creep_stress(:, ig, e) = matmul(d, d_creep(:, ig, e))
                 end do
             end associate

@@ -1091,11 +1091,14 @@ contains
         real(dp), allocatable, intent(out) :: stress_end(:, :, :), stress_mid(:, :, :)
         logical, intent(in) :: midpoint
         real(dp), intent(in), optional :: stress(:, :, :)
-        !> the share of the increment's creep strain in du (1 for the whole increment, 0.5
-        !> for its half): the law integrates the mechanical strain, du's less the creep's
+        !> the share of the increment's creep in du (1 for the whole increment, 0.5 for its
+        !> half): the stresses the creep relaxes, D d_eps_c with the tangent at the start of
+        !> the increment, come off the law's update over du (the initial-strain method with
+        !> the load of the increment's solve, cfrd_creep_step)
         real(dp), intent(in), optional :: creep_share
         real(dp) :: strain(4, ngauss), start(4)
         integer :: e, ng, ig
+        logical :: creeping
         if (present(stress)) then
             stress_end = stress
         else
@@ -1105,14 +1108,20 @@ contains
         do e = 1, model%mesh%nelem
             if (.not. state%active(e)) cycle
             call element_strains(model, library, e, du, strain, ng)
-            if (present(creep_share) .and. allocated(state%creep_step)) &
-                strain(:, 1:ng) = strain(:, 1:ng) - creep_share*state%creep_step(:, 1:ng, e)
+            ! With creep, half the relaxed stresses come off before the law's update and
+            ! half after: its midpoint tangent sits half-way along the stress path.
+            creeping = .false.
+            if (present(creep_share) .and. allocated(state%creep_stress)) creeping = .true.
             do ig = 1, ng
                 start = stress_end(:, ig, e)
+                if (creeping) start = start - 0.5_dp*creep_share*state%creep_stress(:, ig, e)
                 call material_update(model%materials(model%mesh%material(e)), model%pa, &
                                      start, state%strain(:, ig, e), &
                                      state%history(:, ig, e), strain(:, ig), midpoint, &
                                      stress_end(:, ig, e), stress_mid(:, ig, e))
+                if (creeping) stress_end(:, ig, e) = stress_end(:, ig, e) - &
+                                                     0.5_dp*creep_share* &
+                                                     state%creep_stress(:, ig, e)
             end do
         end do
     end subroutine integrate_stress
@@ -1142,8 +1151,6 @@ contains
         do e = 1, model%mesh%nelem
             if (.not. state%active(e)) cycle
             call element_strains(model, library, e, du, strain, ng)
-            if (allocated(state%creep_step)) strain(:, 1:ng) = strain(:, 1:ng) - &
-                                                              state%creep_step(:, 1:ng, e)
             do ig = 1, ng
                 call material_update_tangent(model%materials(model%mesh%material(e)), &
                                              model%pa, state%stress(:, ig, e), &

@@ -21,6 +21,11 @@ module cfrd_rockfill_creep
     private
 
     public :: creep_params_t, creep_final_strains, creep_advance, creep_strain_increment
+    public :: relax_max
+
+    !> The largest share of the mean stress or of the deviator that one step's creep may
+    !> relax at a point held fully (creep_strain_increment) [choice].
+    real(dp), parameter :: relax_max = 0.25_dp
 
     !> Parameters of the creep card (CREEP, after an EB material's two cards).
     type :: creep_params_t
@@ -72,22 +77,33 @@ contains
     !> (tension positive, xx, yy, zz, xy) with minor principal stress sigma3 and stress
     !> level `level` from the E-B law; ev and es are the volumetric and shear creep strains
     !> reached so far (compression positive) and come back advanced.
-    pure subroutine creep_strain_increment(p, stress, sigma3, level, dt, ev, es, d_strain)
+    !>
+    !> With `bulk` and `shear`, the tangent moduli that turn the step's creep into relaxed
+    !> stresses, each part of the increment is limited so that, held fully, it would relax
+    !> at most `relax_max` of the mean stress (bulk d eps_v <= relax_max p) or of the
+    !> deviator (3 shear d eps_s <= relax_max q): the explicit step cannot overshoot where
+    !> the final strain grows fast with the stress (S near 1); the rest of the creep comes
+    !> in the next steps. Steps small against 1/alpha never reach the limit.
+    pure subroutine creep_strain_increment(p, stress, sigma3, level, dt, ev, es, d_strain, &
+                                           bulk, shear)
         type(creep_params_t), intent(in) :: p
         real(dp), intent(in) :: stress(4), sigma3, level, dt
         real(dp), intent(inout) :: ev, es
         real(dp), intent(out) :: d_strain(4)
+        real(dp), intent(in), optional :: bulk, shear
         real(dp) :: ev_final, es_final, dev, des, mean, s(4), q
         call creep_final_strains(p, sigma3, level, ev_final, es_final)
         dev = creep_advance(p, ev, ev_final, dt) - ev
         des = creep_advance(p, es, es_final, dt) - es
+        mean = sum(stress(1:3))/3.0_dp
+        s = [stress(1) - mean, stress(2) - mean, stress(3) - mean, stress(4)]
+        q = sqrt(1.5_dp*(s(1)**2 + s(2)**2 + s(3)**2 + 2.0_dp*s(4)**2))
+        if (present(bulk)) dev = min(dev, relax_max*max(-mean, 0.0_dp)/bulk)
+        if (present(shear)) des = min(des, relax_max*q/(3.0_dp*shear))
         ev = ev + dev
         es = es + des
         d_strain = 0.0_dp
         d_strain(1:3) = -dev/3.0_dp
-        mean = sum(stress(1:3))/3.0_dp
-        s = [stress(1) - mean, stress(2) - mean, stress(3) - mean, stress(4)]
-        q = sqrt(1.5_dp*(s(1)**2 + s(2)**2 + s(3)**2 + 2.0_dp*s(4)**2))
         if (q > 0.0_dp .and. des > 0.0_dp) then
             ! 3/2 des s/q, the shear component doubled (engineering strain)
             d_strain(1:3) = d_strain(1:3) + 1.5_dp*des*s(1:3)/q
