@@ -1,0 +1,163 @@
+#!/usr/bin/env python3
+"""The error budget of the Tianshengqiao-I openings (issue 19; docs/tianshengqiao.md section 9):
+each candidate mechanism switched on alone in the face-resolved x1 contact deck (the x1 body
+with the slab face at x4, whose openings are within 5 % of the converged x8 mesh's), and its
+effect on the four Table 5 figures and on the maximum settlement in August 1999.
+
+  python3 tools/error_budget.py --cfrd bin/cfrd [--workdir build/budget] [--doc FILE]
+
+Variants (each named in the table with its source tag):
+  base          the deck as generated (E-B of Table 3, no creep) [paper]/[lit]/[choice]
+  creep         --creep: the CREEP cards of inputs/tianshengqiao-i.toml [lit]
+  moduli-0.5    every E-B modulus number (K, Kb, Kur) halved: a field-to-laboratory scale
+                factor of 2 [choice: the size of the scale effect is not known for this dam]
+  cast-early    each slab phase cast at the start of its casting period (Table 2) instead of
+                its end [paper periods, choice of the day]
+  slab-q4       the slab in plain Q4 quads (which lock in bending) instead of Q4S [choice]
+The openings are the largest over the history (width m, depth m: the open zone from the
+phase's top, DECK-openings.csv); the settlement is the largest since placement at the last
+stage dated 1999-08 (displacement_total, HDF5).
+"""
+
+import argparse
+import csv
+import math
+import os
+import re
+import subprocess
+import sys
+import time
+
+import h5py
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+GENERATOR = os.path.join(ROOT, "tools", "tianshengqiao.py")
+OBSERVED = {"w1": 0.15, "d1": 7.2, "w2": 0.10, "d2": 5.0, "settlement": 3.0}
+PAPER = {"w1": 0.13, "d1": 8.0, "w2": 0.40, "d2": 14.0}
+
+
+def generate(path, *options):
+    subprocess.run([sys.executable, GENERATOR, "--interface", "contact", "--face", "4",
+                    "--deck", path, *options], check=True, capture_output=True)
+
+
+def halve_moduli(path):
+    """K (columns 11-20) and Kb (41-50) of every EB card halved; Kur is blank (2 K)."""
+    lines = open(path).read().split("\n")
+    out = []
+    after_eb = False
+    for line in lines:
+        if after_eb and not line.startswith("*"):
+            k = float(line[10:20]) / 2.0
+            kb = float(line[40:50]) / 2.0
+            line = line[:10] + f"{k:10.4f}" + line[20:40] + f"{kb:10.4f}" + line[50:]
+            after_eb = False
+        elif re.match(r"^\s*\d+EB\s", line):
+            after_eb = True
+        out.append(line)
+    open(path, "w").write("\n".join(out))
+
+
+def cast_early(path):
+    """Each slab phase (its RESET and FILL) cast as early as Table 2 and the fill allow: at the
+    start of its casting period (I 1997.03, II 1997.12, III 1999.01), but not before the fill
+    has reached the phase's top (phase II: 1998.01), instead of at the period's end."""
+    starts = {"1": "1997.03", "2": "1997.12", "3": "1999.01"}
+    tops = {"1": 680.0, "2": 746.0, "3": 787.3}
+    lines = open(path).read().split("\n")
+    first = next(i for i, l in enumerate(lines) if l.startswith("STAGES")) + 2
+    last = next(i for i, l in enumerate(lines) if l.startswith("END"))
+    stages = lines[first:last]
+    for phase, month in starts.items():
+        k = next(i for i, l in enumerate(stages) if l.startswith("FILL      SLAB" + phase))
+        pair = stages[k - 1:k + 1]
+        del stages[k - 1:k + 1]
+        # after the fill layer that reaches the top, and after the stages before the month
+        reach = next(i for i, l in enumerate(stages) if l.startswith("FILL      B")
+                     and float(re.search(r"layer [0-9.]+-([0-9.]+) m", l).group(1))
+                     >= tops[phase] - 1e-6)
+        j = max(reach + 1, next(i for i, l in enumerate(stages) if l[25:35].strip() >= month))
+        date = max(month, stages[j - 1][25:35].strip())
+        pair = [l[:25] + f"{date:<10s}" + l[35:] for l in pair]
+        stages[j:j] = pair
+    lines[first:last] = stages
+    open(path, "w").write("\n".join(lines))
+
+
+VARIANTS = [
+    ("base", "the deck as generated: E-B of Table 3, no creep", [], None),
+    ("creep", "CREEP cards of the geometry file, day dates, WAIT to 2004", ["--creep"], None),
+    ("moduli-0.5", "K, Kb (and Kur = 2 K) halved", [], halve_moduli),
+    ("cast-early", "slab phases cast at the start of their periods (II when the fill reaches 746 m)", [], cast_early),
+    ("slab-q4", "slab in plain Q4 quads", ["--slab-element", "Q4"], None),
+]
+
+
+def figures(base):
+    rows = list(csv.DictReader(open(base + "-openings.csv")))
+    out = {}
+    for phase, (w, d) in (("SLAB1", ("w1", "d1")), ("SLAB2", ("w2", "d2"))):
+        r = [x for x in rows if x["group"] == phase]
+        out[w] = max(float(x["width_m"]) for x in r)
+        out[d] = max(float(x["depth_m"]) for x in r)
+    with h5py.File(base + ".h5", "r") as f:
+        names = sorted(f["stages"])
+        aug = [k for k in names if f["stages"][k].attrs["date"].decode().startswith(
+            ("1999.08", "1999-08"))]
+        g = f["stages"][aug[-1]]
+        out["settlement"] = float(-g["displacement_total"][:, 1].min())
+        g = f["stages"][names[-1]]
+        out["settlement_end"] = float(-g["displacement_total"][:, 1].min())
+        out["end_date"] = g.attrs["date"].decode()
+    return out
+
+
+def log_error(values):
+    """mean |ln(computed / observed)| over the four Table 5 figures (inf if one is zero)."""
+    terms = []
+    for key in ("w1", "d1", "w2", "d2"):
+        v = values[key]
+        terms.append(abs(math.log(v / OBSERVED[key])) if v > 0 else math.inf)
+    return sum(terms) / 4.0
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--cfrd", required=True)
+    ap.add_argument("--workdir", default="build/budget")
+    ap.add_argument("--only", nargs="*", help="variant names (default: all)")
+    a = ap.parse_args(argv)
+    os.makedirs(a.workdir, exist_ok=True)
+    results = []
+    for name, what, options, edit in VARIANTS:
+        if a.only and name not in a.only:
+            continue
+        deck = os.path.join(a.workdir, f"budget-{name}.dat")
+        generate(deck, *options)
+        if edit:
+            edit(deck)
+        t0 = time.time()
+        done = subprocess.run([a.cfrd, "--quiet", deck], capture_output=True, text=True)
+        wall = time.time() - t0
+        if done.returncode != 0:
+            print(f"{name}: cfrd failed: {done.stderr.strip()[:300]}")
+            continue
+        values = figures(deck[:-4])
+        values.update(name=name, what=what, wall=wall)
+        results.append(values)
+    print("| variant | phase I width / depth (m) | phase II width / depth (m) | mean abs ln |"
+          " max settlement 1999-08 (m) | at the end (m) | run (s) |")
+    print("|---|---|---|---|---|---|---|")
+    for v in results:
+        print(f"| {v['name']}: {v['what']} | {v['w1']:.4f} / {v['d1']:.2f} | {v['w2']:.4f} /"
+              f" {v['d2']:.2f} | {log_error(v):.2f} | {v['settlement']:.3f} |"
+              f" {v['settlement_end']:.3f} ({v['end_date']}) | {v['wall']:.1f} |")
+    print(f"| observed (paper Table 5; settlement about 3 m) | {OBSERVED['w1']} / {OBSERVED['d1']}"
+          f" | {OBSERVED['w2']} / {OBSERVED['d2']} | 0 | about 3 | | |")
+    print(f"| paper, contact | {PAPER['w1']} / {PAPER['d1']} | {PAPER['w2']} / {PAPER['d2']} |"
+          f" {log_error(PAPER):.2f} | | | |")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
