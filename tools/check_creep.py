@@ -324,6 +324,28 @@ def check_column(cfrd, workdir, tol=1e-2):
     return ok
 
 
+def check_off(cfrd, workdir):
+    """EFFECTS CREEP OFF (and a deck without CREEP cards): the results of a deck without creep,
+    bit for bit, and no creep state stored."""
+    deck = column_deck(4)
+    off = deck.replace("&EFFECTS, , OFF", "&EFFECTS, , OFF, , , , , , OFF")
+    bare = "\n".join(l for l in deck.split("\n") if not l.startswith("&CREEP"))
+    with run(cfrd, os.path.join(workdir, "column-off.dat"), off) as a, \
+            run(cfrd, os.path.join(workdir, "column-bare.dat"), bare) as b:
+        sa, sb = stages(a), stages(b)
+        same = len(sa) == len(sb) and all(
+            np.array_equal(x[name][...], y[name][...]) for x, y in zip(sa, sb)
+            for name in ("displacement_total", "stress_gauss"))
+        stored = any("creep_gauss" in g for g in sa)
+        effects = a.attrs["effects"].decode()
+    ok = same and not stored and effects.endswith("CREEP OFF")
+    print(f"{'PASS' if ok else 'FAIL'} creep/effects-off: the column with EFFECTS CREEP OFF"
+          f" against the same deck without CREEP cards: {'bit-identical' if same else 'DIFFERENT'}"
+          f" displacements and stresses at {len(sa)} stages, creep state stored: {stored},"
+          f" effects attribute '{effects[-9:]}'")
+    return ok
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--cfrd", required=True)
@@ -331,7 +353,7 @@ def main(argv=None):
     a = ap.parse_args(argv)
     os.makedirs(a.workdir, exist_ok=True)
     ok = True
-    for check in (check_closed_form, check_order, check_column):
+    for check in (check_closed_form, check_order, check_column, check_off):
         try:
             ok &= check(a.cfrd, a.workdir)
         except Exception as exc:       # a run that fails is a failed check, with its reason

@@ -210,6 +210,7 @@ cases += [
  ("dates-backwards", tsub("WAIT                    41998-05-01", "WAIT                    41996-05-01"), "{f}:19:26-35: field DATE of STAGES WAIT: expected a date not before 1997-05-01 (line 18): stages go forwards in time, found '1996-05-01'"),
  ("wait-no-date", tsub("WAIT                    41998-05-01", "WAIT                    4"), "{f}:19:26-35: field DATE of STAGES WAIT: expected the date to wait until (WAIT needs a date), found ''"),
  ("creep-free-text-date", tsub("FILL      SOIL          11997-05-01", "FILL      SOIL          1May 1997"), "{f}:18:26-35: field DATE of STAGES FILL: expected a date YYYY-MM-DD, YYYY.MM or YYYY-MM, found 'May 1997'"),
+ ("effects-creep-word", sub("    6    2    1\n", "    6    2    1\nEFFECTS" + " " * 73 + "NEVER\n"), "{f}:5:81-90: field CREEP of CONTROL EFFECTS: expected ON (the default, also blank) or OFF, found 'NEVER'"),
  ("date-impossible", tsub("WAIT                    41998-05-01", "WAIT                    41998-02-30"), "{f}:19:26-35: field DATE of STAGES WAIT: expected a date YYYY-MM-DD, YYYY.MM or YYYY-MM, found '1998-02-30'"),
 ]
 for old in os.listdir(P):

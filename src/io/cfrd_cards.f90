@@ -18,6 +18,8 @@ module cfrd_cards
 
     !> Width of a fixed-format card.
     integer, parameter :: card_columns = 80
+    !> The columns of the EFFECTS card (eight switches after its keyword).
+    integer, parameter :: effects_columns = 90
 
     integer, parameter :: int_field = 1, real_field = 2, text_field = 3
 
@@ -148,7 +150,7 @@ contains
         integer, intent(in) :: line
         type(card_t), intent(out) :: card
         type(error_t), allocatable, intent(out) :: error
-        integer :: i, n, start, tab
+        integer :: i, n, start, tab, limit
         card%line = line
         if (text(1:1) == '&') then
             card%free = .true.
@@ -180,11 +182,17 @@ contains
                             'card: columns cannot be counted; use blanks (or an & card)')
             return
         end if
-        if (len(text) > card_columns) then
-            if (len_trim(text(card_columns + 1:)) > 0) then
-                call line_error(error, file, line, card_columns + 1, len_trim(text), &
-                                'text beyond column 80 on a fixed-format card: '// &
-                                "found '"//trim(text(card_columns + 1:))// &
+        ! The EFFECTS card of CONTROL alone runs to column 90 (its eighth switch, CREEP).
+        limit = card_columns
+        if (len(text) >= 7) then
+            if (upper(text(1:7)) == 'EFFECTS') limit = effects_columns
+        end if
+        if (len(text) > limit) then
+            if (len_trim(text(limit + 1:)) > 0) then
+                call line_error(error, file, line, limit + 1, len_trim(text), &
+                                'text beyond column '//to_text(limit)// &
+                                ' on a fixed-format card: '// &
+                                "found '"//trim(text(limit + 1:))// &
                                 "' (use an & card for longer lines)")
                 return
             end if

@@ -77,7 +77,7 @@ module cfrd_deck
                                 field_t('SOLVER', 56, 5, int_field), &
                                 field_t('TOL', 61, 10, real_field), &
                                 field_t('MAXIT', 71, 5, int_field)]
-    type(field_t), parameter :: effects_fields(8) = [ &
+    type(field_t), parameter :: effects_fields(9) = [ &
                                 field_t('KEYWORD', 1, 10, text_field), &
                                 field_t('ROCKFILL', 11, 10, text_field), &
                                 field_t('UNLOAD', 21, 10, text_field), &
@@ -85,7 +85,8 @@ module cfrd_deck
                                 field_t('INTERFACE', 41, 10, text_field), &
                                 field_t('FRICTION', 51, 10, text_field), &
                                 field_t('SLIP', 61, 10, text_field), &
-                                field_t('PHASES', 71, 10, text_field)]
+                                field_t('PHASES', 71, 10, text_field), &
+                                field_t('CREEP', 81, 10, text_field)]
     type(field_t), parameter :: node_fields(7) = [ &
                                 field_t('N1', 1, 5, int_field), &
                                 field_t('N2', 6, 5, int_field), &
@@ -585,6 +586,8 @@ contains
         call choose(7, 'LARGE', 'SMALL', effects%large_slip)
         if (allocated(error)) return
         call choose(8, 'ON', 'OFF', effects%phases)
+        if (allocated(error)) return
+        call choose(9, 'ON', 'OFF', effects%creep)
     contains
         !> Field k: blank or `on_word` sets `on`, `off_word` clears it.
         subroutine choose(k, on_word, off_word, on)

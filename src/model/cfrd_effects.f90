@@ -250,7 +250,8 @@ contains
                ', INTERFACE '//word(effects%interface, 'DECK', 'BONDED')// &
                ', FRICTION '//word(effects%friction, 'ON', 'OFF')// &
                ', SLIP '//word(effects%large_slip, 'LARGE', 'SMALL')// &
-               ', PHASES '//word(effects%phases, 'ON', 'OFF')
+               ', PHASES '//word(effects%phases, 'ON', 'OFF')// &
+               ', CREEP '//word(effects%creep, 'ON', 'OFF')
     contains
         pure function word(on, on_word, off_word) result(w)
             logical, intent(in) :: on
