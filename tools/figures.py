@@ -18,6 +18,8 @@ data (a line says which were skipped and why):
                         nodes)
   fig12-openings.png    width and depth of each slab phase's opening, stage by stage, with
                         the observed maxima (cf. Figs. 11-12 and Table 5)
+  fig12-openings-time.png  the same against time (decks whose stages all carry dates in a
+                        date form, e.g. the creep decks: tools/tianshengqiao.py --creep)
   fig13-normal-stress.png  normal stress along the interface before the phase II slab, at
                         the end of construction and at the largest opening (Fig. 13;
                         contact: the slave nodes' traction, separated nodes hollow)
@@ -98,6 +100,45 @@ def openings_history_plot(h5, name, out, reference):
     note = "dashed: in-situ maxima of phases I and II (paper Table 5)" if reference else ""
     fig.suptitle(f"{name}: opening of each slab phase per stage (cf. paper Figs. 11-12)"
                  + (f"\n{note}" if note else ""), fontsize=10)
+    fig.tight_layout()
+    fig.savefig(out, dpi=120)
+    return fig
+
+
+def stage_years(h5):
+    """Time of each stage in years (from its `day` attribute), or None when some stage has
+    none (decks without dates in a date form)."""
+    years = []
+    for s in sorted(h5["stages"]):
+        day = h5["stages"][s].attrs.get("day")
+        if day is None:
+            return None
+        years.append(1970.0 + float(day) / 365.2425)
+    return np.array(years)
+
+
+def openings_time_plot(h5, name, out, reference):
+    """Width (cm) and depth (m) of each phase's opening against time (decks whose stages all
+    have dates: time-dependent analyses, issue 19), observed maxima dashed."""
+    years = stage_years(h5)
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4))
+    for k, (phase, stage, width, depth) in enumerate(phase_openings(h5)):
+        colour = f"C{k}"
+        axes[0].plot(years[stage - 1], 100 * width, ".-", color=colour, label=phase)
+        axes[1].plot(years[stage - 1], depth, ".-", color=colour, label=phase)
+        observed = table5_row(reference, "in-situ", k)
+        if observed is not None:
+            axes[0].axhline(100 * observed[0], color=colour, ls="--", lw=0.8)
+            axes[1].axhline(observed[1], color=colour, ls="--", lw=0.8)
+    axes[0].set_ylabel("opening width (cm)")
+    axes[1].set_ylabel("opening depth from the phase's top (m)")
+    for ax in axes:
+        ax.set_xlabel("year")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle(f"{name}: opening of each slab phase against time"
+                 + ("\ndashed: in-situ maxima of phases I and II (paper Table 5)"
+                    if reference else ""), fontsize=10)
     fig.tight_layout()
     fig.savefig(out, dpi=120)
     return fig
@@ -263,6 +304,11 @@ def main(argv=None):
             save("fig12-openings", openings_history_plot(first, names[0],
                                                          out / "fig12-openings.png",
                                                          reference))
+            if stage_years(first) is not None:
+                save("fig12-openings-time", openings_time_plot(
+                    first, names[0], out / "fig12-openings-time.png", reference))
+            else:
+                skipped.append("fig12-openings-time (a stage without a date in a date form)")
         else:
             skipped.append("fig12-openings (no slab phase with an interface)")
     else:

@@ -108,7 +108,14 @@ def section_plot(path, what, out, stage=None, note=None):
 
 
 def month_number(date):
-    """'1997.05' (or '1997-05') -> 1997.33 (years, start of the month)."""
+    """'1997.05' (or '1997-05') -> 1997.33 (years, start of the month); '1997-05-16' -> the
+    day's fraction of its year."""
+    if len(date) == 10 and date[4] == "-" and date[7] == "-":
+        import datetime
+        day = datetime.date.fromisoformat(date)
+        start = datetime.date(day.year, 1, 1)
+        length = (datetime.date(day.year + 1, 1, 1) - start).days
+        return day.year + (day - start).days / length
     date = date.replace("-", ".")
     return int(date[:4]) + (int(date[5:7]) - 1) / 12.0
 
