@@ -8,7 +8,9 @@ effect on the four Table 5 figures and on the maximum settlement in August 1999.
 
 Variants (each named in the table with its source tag):
   base          the deck as generated (E-B of Table 3, no creep) [paper]/[lit]/[choice]
-  creep         --creep: the CREEP cards of inputs/tianshengqiao-i.toml [lit]
+  creep         --creep: the CREEP cards of inputs/tianshengqiao-i.toml [choice], and the
+                same with its volumetric or shear part alone, b and d halved or doubled, and
+                b five times without the shear part
   moduli-0.5    every E-B modulus number (K, Kb, Kur) halved: a field-to-laboratory scale
                 factor of 2 [choice: the size of the scale effect is not known for this dam]
   cast-early    each slab phase cast at the start of its casting period (Table 2) instead of
@@ -36,9 +38,25 @@ OBSERVED = {"w1": 0.15, "d1": 7.2, "w2": 0.10, "d2": 5.0, "settlement": 3.0}
 PAPER = {"w1": 0.13, "d1": 8.0, "w2": 0.40, "d2": 14.0}
 
 
-def generate(path, *options):
+GEOMETRY = os.path.join(ROOT, "inputs", "tianshengqiao-i.toml")
+
+
+def generate(path, *options, creep_scale=None):
+    """Write the face-resolved x1 contact deck; creep_scale = (factor on b, factor on d)
+    writes it from a copy of the geometry file with those creep parameters scaled."""
+    geometry = GEOMETRY
+    if creep_scale is not None:
+        text = open(GEOMETRY).read()
+        fb, fd = creep_scale
+        text = re.sub(r"^b = ([0-9.eE+-]+)$", lambda m: f"b = {float(m.group(1)) * fb!r}",
+                      text, flags=re.M)
+        text = re.sub(r"^d = ([0-9.eE+-]+)$", lambda m: f"d = {float(m.group(1)) * fd!r}",
+                      text, flags=re.M)
+        geometry = path[:-4] + ".toml"
+        open(geometry, "w").write(text)
     subprocess.run([sys.executable, GENERATOR, "--interface", "contact", "--face", "4",
-                    "--deck", path, *options], check=True, capture_output=True)
+                    "--geometry", geometry, "--deck", path, *options], check=True,
+                   capture_output=True)
 
 
 def halve_moduli(path):
@@ -87,6 +105,11 @@ def cast_early(path):
 VARIANTS = [
     ("base", "the deck as generated: E-B of Table 3, no creep", [], None),
     ("creep", "CREEP cards of the geometry file, day dates, WAIT to 2004", ["--creep"], None),
+    ("creep-volumetric", "creep, its volumetric part only (d = 0)", ["--creep"], (1.0, 0.0)),
+    ("creep-shear", "creep, its shear part only (b = 0)", ["--creep"], (0.0, 1.0)),
+    ("creep-low", "creep with b and d halved", ["--creep"], (0.5, 0.5)),
+    ("creep-high", "creep with b and d doubled", ["--creep"], (2.0, 2.0)),
+    ("creep-volumetric-x5", "volumetric creep only, b five times (1 %)", ["--creep"], (5.0, 0.0)),
     ("moduli-0.5", "K, Kb (and Kur = 2 K) halved", [], halve_moduli),
     ("cast-early", "slab phases cast at the start of their periods (II when the fill reaches 746 m)", [], cast_early),
     ("slab-q4", "slab in plain Q4 quads", ["--slab-element", "Q4"], None),
@@ -133,9 +156,12 @@ def main(argv=None):
         if a.only and name not in a.only:
             continue
         deck = os.path.join(a.workdir, f"budget-{name}.dat")
-        generate(deck, *options)
-        if edit:
-            edit(deck)
+        if isinstance(edit, tuple):
+            generate(deck, *options, creep_scale=edit)
+        else:
+            generate(deck, *options)
+            if edit:
+                edit(deck)
         t0 = time.time()
         done = subprocess.run([a.cfrd, "--quiet", deck], capture_output=True, text=True)
         wall = time.time() - t0
