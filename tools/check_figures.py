@@ -228,6 +228,29 @@ def check(h5paths, figdir, prefix="figures"):
             f"of /{'contact' if first.contact else 'interface'} (exact)"
             + (f"; differ: {bad}" if bad else ""))
 
+    # Fig. 12 against time: the same widths and depths at the stages' times (years from the
+    # HDF5 stage attribute `day`), drawn when every stage has a date in a date form.
+    days = [first.h5["stages"][k].attrs.get("day") for k in sorted(first.h5["stages"])]
+    timed = all(d is not None for d in days)
+    if timed:
+        years = 1970.0 + np.array(days, dtype=float) / 365.2425
+        series = read_data(data / "fig12-openings-time.csv")
+        bad = []
+        for phase, rows in phases.items():
+            rows = np.array(rows)
+            t = years[rows[:, 0].astype(int) - 1]
+            lines = [xy([r for r in series[("line", phase)] if r["panel"] == p])
+                     for p in sorted({r["panel"] for r in series[("line", phase)]})]
+            ok_w = any(np.array_equal(l[:, 1], 100 * rows[:, 1]) and np.array_equal(l[:, 0], t)
+                       for l in lines)
+            ok_d = any(np.array_equal(l[:, 1], rows[:, 2]) and np.array_equal(l[:, 0], t)
+                       for l in lines)
+            if not (ok_w and ok_d):
+                bad.append(phase)
+        verdict("fig12-openings-time", not bad and phases,
+                f"phases {sorted(phases)}: (year from the stage's day, 100 opening_width) and"
+                f" (year, opening_depth) (exact)" + (f"; differ: {bad}" if bad else ""))
+
     # Fig. 13: normal stress before the phase II slab, at the end of construction and at
     # the largest opening, per file in its panel; separated contact nodes drawn again.
     series = read_data(data / "fig13-normal-stress.csv")
@@ -323,7 +346,9 @@ def check(h5paths, figdir, prefix="figures"):
             f"width and depth of phases I / II over the stages: {'; '.join(ours)} (exact)"
             + (f"; differ: {bad}" if bad else ""))
     pngs = sorted(p.name for p in figdir.glob("*.png"))
-    verdict("files", len(pngs) == 8, f"{len(pngs)} PNG files: {', '.join(pngs)}")
+    wanted = 9 if timed else 8      # fig12-openings-time with dated stages
+    verdict("files", len(pngs) == wanted, f"{len(pngs)} PNG files (expected {wanted}): "
+            f"{', '.join(pngs)}")
     return all(results)
 
 
