@@ -324,6 +324,61 @@ def check_column(cfrd, workdir, tol=1e-2):
     return ok
 
 
+def check_contact(cfrd, workdir, tol=5e-3):
+    """A stiff slab cast in contact on a creeping block (held laterally, linear E-B: EFFECTS
+    ROCKFILL LINEAR, volumetric creep only with MC = 0.001) and pressed by 500 kPa: the
+    contact stays closed and the slab settles with the block, by H (1 + nu)/(3 (1 - nu))
+    eps_v(t) (the creep compaction of a held block whose vertical stress the load fixes),
+    and the contact pressure stays the load (statics)."""
+    q, mc = 500.0, 0.001
+    k, kb = EB["k"], EB["kb"]
+    e, b = k * PA, max(kb * PA, k * PA / 3.0)
+    nu = (3.0 * b - e) / (6.0 * b)
+    p_contact = q + 24.0 * 0.2
+    sigma3 = nu / (1.0 - nu) * p_contact
+    ev_final = CREEP["b"] * (sigma3 / PA) ** mc
+    deck = "\n".join([
+        "TITLE     a slab cast on a creeping block",
+        "CONTROL", "&12, 4, 2, 1",
+        "&EFFECTS, LINEAR",
+        "NODES", "&1, 3, 1, 0.0, 0.0, 2.0, 0.0", "&4, 6, 1, 0.0, 1.0, 2.0, 1.0",
+        "&7, 9, 1, 0.0, 1.0, 2.0, 1.0", "&10, 12, 1, 0.0, 1.2, 2.0, 1.2",
+        "ELEMENTS", "&1, 1, 2, 5, 4, 1, 1, 1", "&3, 7, 8, 11, 10, 2, 1, 1, SLAB",
+        "MATERIALS", "&1, EB, creeping block",
+        f"&0.0, {k!r}, {EB['n']!r}, {EB['rf']!r}, {kb!r}, {EB['m']!r}",
+        f"&{EB['phi0']!r}, {EB['dphi']!r}",
+        f"&CREEP, {CREEP['alpha']!r}, {CREEP['b']!r}, {mc!r}, 0.0, 1.0",
+        "&2, ELASTIC, slab", "&3.0e7, 0.2, 24.0",
+        "CONTACT", "&SURFACE, SLAB, 3, 1, 1, 1", "&SURFACE, BLOCK, 1, 3, 1, 1",
+        "&PAIR, SLAB, BLOCK, 0.5, , , , 1",
+        "BOUNDARY", "&1, 3, 1, 1, 1", "&4, 12, 1, 1, 0",
+        "LOADS", "&PRESSURE, 3, 3, 500.0", "&PRESSURE, 4, 3, 500.0",
+        "STAGES", "&FILL, SLAB, 1, 2000-01-01, slab cast",
+        "&LOAD, , 10, 2000-01-01, pressure on the slab",
+        "&WAIT, , 10, 2000-04-10", "&WAIT, , 10, 2001-01-01", "&WAIT, , 10, 2004-01-01",
+        "END"]) + "\n"
+    with run(cfrd, os.path.join(workdir, "slab-on-block.dat"), deck) as f:
+        st = stages(f)
+        t0, u0 = st[1].attrs["day"], st[1]["displacement_total"][...]
+        worst = worst_p = 0.0
+        for g in st[2:]:
+            want = (1.0 + nu) / (3.0 * (1.0 - nu)) * ev_final * (
+                1.0 - math.exp(-CREEP["alpha"] * (g.attrs["day"] - t0)))
+            u = g["displacement_total"][...] - u0
+            for node in (9, 10, 11):                       # the slab's top nodes
+                worst = max(worst, abs(-u[node, 1] - want) / want)
+            c = g["contact"]
+            sn = c["sigma_n"][...] if "sigma_n" in c else None
+            if sn is not None:
+                worst_p = max(worst_p, abs(np.mean(sn) + p_contact) / p_contact)
+    ok = worst <= tol and worst_p <= 1e-2
+    print(f"{'PASS' if ok else 'FAIL'} creep/contact-closed: slab cast on a creeping block:"
+          f" its settlement from 10 days to 4 years within {worst:.1e} of"
+          f" H (1+nu)/(3(1-nu)) eps_v(t) (tol {tol:g}), mean contact pressure within"
+          f" {worst_p:.1e} of the load {p_contact:g} kPa (tol 1e-2)")
+    return ok
+
+
 def check_off(cfrd, workdir):
     """EFFECTS CREEP OFF (and a deck without CREEP cards): the results of a deck without creep,
     bit for bit, and no creep state stored."""
@@ -353,7 +408,7 @@ def main(argv=None):
     a = ap.parse_args(argv)
     os.makedirs(a.workdir, exist_ok=True)
     ok = True
-    for check in (check_closed_form, check_order, check_column, check_off):
+    for check in (check_closed_form, check_order, check_column, check_contact, check_off):
         try:
             ok &= check(a.cfrd, a.workdir)
         except Exception as exc:       # a run that fails is a failed check, with its reason
