@@ -11,7 +11,7 @@ program cfrd_main
     use cfrd_listing, only: write_summary
     use cfrd_run_output, only: run_output_t, begin_output, add_stage, finish_output, &
                                keep_incomplete, discard_output
-    use cfrd_files, only: base_name, strip_extension
+    use cfrd_files, only: base_name, strip_extension, make_directories, is_directory
     use cfrd_memory, only: tune_allocator
     implicit none
 
@@ -39,6 +39,9 @@ program cfrd_main
 
     call tune_allocator()
     call parse_command_line(options, decks, error)
+    if (.not. allocated(error)) call check_result_names(options, decks, error)
+    if (.not. allocated(error) .and. allocated(options%out_dir) .and. &
+        .not. options%check_only) call make_directories(options%out_dir, error)
     if (allocated(error)) then
         write (error_unit, '(a)') 'cfrd: '//error%message
         write (error_unit, '(a)') "Try 'cfrd --help'."
@@ -78,11 +81,7 @@ contains
                     ': OK (', model%mesh%nnode, ' nodes, ', model%mesh%nelem, ' elements)'
                 return
             end if
-            if (allocated(options%out_dir)) then
-                stem = options%out_dir//'/'//strip_extension(base_name(path))
-            else
-                stem = strip_extension(path)
-            end if
+            stem = result_stem(options, path)
             ! Each stage goes to the files when it is done; results keeps the last only.
             if (.not. allocated(error)) call begin_output(current%output, stem, model, error, &
                                                          options%legacy_listing)
@@ -170,6 +169,7 @@ contains
         type(error_t), allocatable, intent(out) :: error
         character(len=4096) :: arg
         integer :: i, n, ndeck
+        logical :: exists
         n = command_argument_count()
         allocate (character(len=4096) :: decks(n))
         ndeck = 0
@@ -199,6 +199,21 @@ contains
                 i = i + 1
                 call get_command_argument(i, arg)
                 options%out_dir = trim(arg)
+                ! An unset $OUT in a job script: never the root of the file system.
+                if (len(options%out_dir) == 0) then
+                    call fatal_error(error, 'option --out needs a folder name (found an '// &
+                                     'empty one)', usage_error)
+                    return
+                end if
+                ! A file of that name: the results cannot go into it.
+                if (.not. is_directory(options%out_dir)) then
+                    inquire (file=options%out_dir, exist=exists)
+                    if (exists) then
+                        call fatal_error(error, 'option --out names the file '// &
+                                         options%out_dir//', not a folder', usage_error)
+                        return
+                    end if
+                end if
             case default
                 if (arg(1:1) == '-') then
                     call fatal_error(error, "unknown option '"//trim(arg)//"'", usage_error)
@@ -215,6 +230,39 @@ contains
         decks = decks(1:ndeck)
     end subroutine parse_command_line
 
+    !> Two decks whose results would have the same names (the same base name into one --out
+    !> folder, or one deck listed twice) are refused before anything runs.
+    subroutine check_result_names(options, decks, error)
+        type(options_t), intent(in) :: options
+        character(len=*), intent(in) :: decks(:)
+        type(error_t), allocatable, intent(out) :: error
+        integer :: i, j
+        if (options%check_only) return
+        do i = 2, size(decks)
+            do j = 1, i - 1
+                if (result_stem(options, decks(i)) == result_stem(options, decks(j))) then
+                    call fatal_error(error, 'decks '//trim(decks(j))//' and '// &
+                                     trim(decks(i))//' would both write their results to '// &
+                                     result_stem(options, decks(i))//'.*: run them into '// &
+                                     'different --out folders, or rename one', usage_error)
+                    return
+                end if
+            end do
+        end do
+    end subroutine check_result_names
+
+    !> Where a deck's results go: DECK without its extension, or DIR/its base name.
+    function result_stem(options, path) result(stem)
+        type(options_t), intent(in) :: options
+        character(len=*), intent(in) :: path
+        character(len=:), allocatable :: stem
+        if (allocated(options%out_dir)) then
+            stem = options%out_dir//'/'//strip_extension(base_name(trim(path)))
+        else
+            stem = strip_extension(trim(path))
+        end if
+    end function result_stem
+
     subroutine print_help()
         write (output_unit, '(a)') &
             'Usage: cfrd [options] DECK [DECK ...]', &
@@ -226,7 +274,7 @@ contains
             '', &
             'Options:', &
             '  --check       read and validate the decks only', &
-            '  --out DIR     write results into DIR (it must exist)', &
+            '  --out DIR     write results into DIR (made if missing)', &
             '  --quiet       print nothing but errors', &
             '  --legacy-listing', &
             '                also write DECK.lst: the legacy codes'' per-layer tables of', &

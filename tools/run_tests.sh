@@ -68,6 +68,28 @@ mkdir -p "$work/out"
 if [[ $? -eq 0 && -s $work/out/example.out && -s $work/out/example.h5 && ! -s $work/out.txt ]]
 then pass cli/out-dir-and-quiet; else fail "cli/out-dir-and-quiet: $(head -c 200 "$work/out.txt")"; fi
 
+# 2c'. Batch runs that lose nothing (issue 18): --out makes its folder; --out naming a file,
+# or empty (an unset $OUT), is a usage error; two decks whose results would share names are
+# refused before anything runs; a deck saved with a UTF-8 byte-order mark reads as without.
+"$cfrd" --quiet --out "$work/made/for/it" inputs/example.dat >"$work/out.txt" 2>&1
+if [[ $? -eq 0 && -s $work/made/for/it/example.h5 ]]; then pass cli/out-makes-its-folder
+else fail "cli/out-makes-its-folder: $(head -c 200 "$work/out.txt")"; fi
+touch "$work/a-file"
+check_status cli/out-names-a-file 2 "$cfrd" --quiet --out "$work/a-file" inputs/example.dat
+check_status cli/out-empty 2 "$cfrd" --quiet --out "" inputs/example.dat
+mkdir -p "$work/twins/a" "$work/twins/b"
+cp inputs/example.dat "$work/twins/a/dam.dat"
+cp inputs/example.dat "$work/twins/b/dam.dat"
+"$cfrd" --quiet --out "$work/twins/out" "$work/twins/a/dam.dat" "$work/twins/b/dam.dat" \
+    >"$work/out.txt" 2>"$work/err.txt"
+status=$?
+if [[ $status -eq 2 && ! -e $work/twins/out ]] && grep -q "twins/a/dam.dat and .*twins/b/dam.dat" \
+    "$work/err.txt"; then pass cli/result-name-collision
+else fail "cli/result-name-collision: exit $status: $(head -c 200 "$work/err.txt")"; fi
+printf '\xef\xbb\xbf' >"$work/bom.dat"
+cat inputs/example.dat >>"$work/bom.dat"
+check_status cli/byte-order-mark 0 "$cfrd" --check "$work/bom.dat"
+
 # 2d. A failed run leaves the results of an earlier run byte-identical, and no temporary files.
 tools/cli_failure_test.sh "$cfrd" "$work/failure" && pass cli/failed-run-keeps-results ||
     fail cli/failed-run-keeps-results

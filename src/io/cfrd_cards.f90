@@ -67,7 +67,7 @@ contains
         type(deck_lines_t), intent(out) :: deck
         type(error_t), allocatable, intent(out) :: error
         character(len=:), allocatable :: raw
-        integer :: unit, stat, size_bytes, i, n, start, k
+        integer :: unit, stat, size_bytes, i, n, start, k, first_byte
         logical :: exists
         character(len=256) :: msg
 
@@ -92,11 +92,16 @@ contains
                 return
             end if
         end if
-        ! Drop carriage returns (CRLF files) and count lines.
+        ! Drop a UTF-8 byte-order mark (editors on Windows save one) and carriage returns
+        ! (CRLF files), and count lines.
         allocate (character(len=len(raw)) :: deck%text)
         k = 0
         n = 0
-        do i = 1, len(raw)
+        first_byte = 1
+        if (len(raw) >= 3) then
+            if (raw(1:3) == achar(239)//achar(187)//achar(191)) first_byte = 4
+        end if
+        do i = first_byte, len(raw)
             if (raw(i:i) == achar(13)) cycle
             k = k + 1
             deck%text(k:k) = raw(i:i)

@@ -1,4 +1,4 @@
-!> File operations the Fortran standard lacks: atomic rename and removal, bound to the C
+!> File operations the Fortran standard lacks: atomic rename and removal, folders, bound to the C
 !> library in two layers (private bind(C) interfaces, public wrappers returning error_t).
 module cfrd_files
     use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
@@ -6,7 +6,8 @@ module cfrd_files
     implicit none
     private
 
-    public :: move_file, delete_file, base_name, strip_extension
+    public :: move_file, delete_file, base_name, strip_extension, make_directories, &
+              is_directory
 
     interface
         integer(c_int) function c_rename(from, to) bind(C, name='rename')
@@ -18,6 +19,12 @@ module cfrd_files
             import :: c_int, c_char
             character(kind=c_char), intent(in) :: path(*)
         end function c_remove
+
+        integer(c_int) function c_mkdir(path, mode) bind(C, name='mkdir')
+            import :: c_int, c_char
+            character(kind=c_char), intent(in) :: path(*)
+            integer(c_int), value :: mode
+        end function c_mkdir
     end interface
 
 contains
@@ -37,6 +44,33 @@ contains
         integer(c_int) :: status
         status = c_remove(path//c_null_char)
     end subroutine delete_file
+
+    !> Whether `path` names an existing folder ('path/.' exists only for a folder).
+    logical function is_directory(path)
+        character(len=*), intent(in) :: path
+        inquire (file=path//'/.', exist=is_directory)
+    end function is_directory
+
+    !> Create the folder `path` and any missing parents (mkdir -p); an error names the
+    !> first component that could not be made.
+    subroutine make_directories(path, error)
+        character(len=*), intent(in) :: path
+        type(error_t), allocatable, intent(out) :: error
+        integer(c_int) :: status
+        integer :: k
+        integer(c_int), parameter :: mode = int(o'777', c_int)
+        do k = 2, len(path) + 1
+            if (k <= len(path)) then
+                if (path(k:k) /= '/') cycle
+            end if
+            if (is_directory(path(:k - 1))) cycle
+            status = c_mkdir(path(:k - 1)//c_null_char, mode)
+            if (.not. is_directory(path(:k - 1))) then
+                call fatal_error(error, 'cannot create the folder '//path(:k - 1), io_error)
+                return
+            end if
+        end do
+    end subroutine make_directories
 
     !> The last component of a path: 'inputs/dam.dat' -> 'dam.dat'.
     pure function base_name(path) result(name)
