@@ -2,7 +2,8 @@
 !> writers. The only place where an error_t becomes an exit status.
 program cfrd_main
     use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
-    use cfrd_error, only: error_t, fatal_error, error_status, usage_error
+    use cfrd_error, only: error_t, fatal_error, error_status, usage_error, io_error
+    use cfrd_strings, only: to_text
     use cfrd_version, only: cfrd_version_string
     use cfrd_model, only: model_t
     use cfrd_results, only: results_t, stage_result_t
@@ -13,6 +14,7 @@ program cfrd_main
                                keep_incomplete, discard_output
     use cfrd_files, only: base_name, strip_extension, make_directories, is_directory
     use cfrd_memory, only: tune_allocator
+    use cfrd_signals, only: catch_termination, termination_signal, signal_name
     implicit none
 
     type :: options_t
@@ -48,11 +50,16 @@ program cfrd_main
         call exit(error_status(error))
     end if
 
+    ! SIGTERM and SIGINT stop the run at the end of the stage it is in (stream_stage).
+    if (.not. options%check_only) call catch_termination()
     worst = 0
     do i = 1, size(decks)
         call run_deck(trim(decks(i)), options, status)
         worst = max(worst, status)
+        if (termination_signal() /= 0) exit
     end do
+    ! A signal after the last stage: the results are complete, the status says it came.
+    if (termination_signal() /= 0) worst = max(worst, 128 + termination_signal())
     call exit(worst)
 
 contains
@@ -150,9 +157,24 @@ contains
         integer, intent(in) :: number, total
         type(stage_result_t), intent(in) :: stage
         type(error_t), allocatable :: error
+        integer :: signal
         if (.not. allocated(current%write_error)) then
             call add_stage(current%output, current%model, number, stage, error)
             if (allocated(error)) call move_alloc(error, current%write_error)
+        end if
+        ! A termination signal: keep the completed stages as DECK.incomplete.h5, remove the
+        ! temporary files, and stop with 128 + the signal's number (130 SIGINT, 143 SIGTERM).
+        signal = termination_signal()
+        if (signal /= 0 .and. number < total) then
+            call fatal_error(error, 'stopped by '//signal_name(signal)//' after stage '// &
+                             to_text(number)//' of '//to_text(total), io_error)
+            if (allocated(current%write_error)) then
+                call discard_output(current%output)
+            else
+                call report_incomplete(error, current%output%stem)
+            end if
+            write (error_unit, '(a)') 'cfrd: '//error%message
+            call exit(128 + signal)
         end if
         if (options%quiet) return
         write (output_unit, '(a,i0,a,i0,2a,i0,a,i0,a,i0,a,i0,a,es9.2,a,f8.3,a)') '  stage ', &

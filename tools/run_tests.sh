@@ -90,6 +90,9 @@ printf '\xef\xbb\xbf' >"$work/bom.dat"
 cat inputs/example.dat >>"$work/bom.dat"
 check_status cli/byte-order-mark 0 "$cfrd" --check "$work/bom.dat"
 
+# SIGTERM / SIGINT: the run stops after the stage it is in and keeps the completed stages.
+tool_checks "interrupt" python3 tools/check_interrupt.py --cfrd "$cfrd" --workdir "$work/interrupt"
+
 # 2d. A failed run leaves the results of an earlier run byte-identical, and no temporary files.
 tools/cli_failure_test.sh "$cfrd" "$work/failure" && pass cli/failed-run-keeps-results ||
     fail cli/failed-run-keeps-results
