@@ -79,14 +79,16 @@ def find_reference(title, choice):
 phase_openings = plot_interface.phase_openings
 
 
-def openings_history_plot(h5, name, out, reference):
-    """Width (cm) and depth (m) of each phase's opening per stage, observed maxima dashed."""
+def openings_history_plot(h5, name, out, reference, years=None):
+    """Width (cm) and depth (m) of each phase's opening per stage, observed maxima dashed;
+    with `years` (the stages' times) against time."""
     phases = phase_openings(h5)
     fig, axes = plt.subplots(1, 2, figsize=(11, 4))
     for k, (phase, stage, width, depth) in enumerate(phases):
         colour = f"C{k}"
-        axes[0].plot(stage, 100 * width, ".-", color=colour, label=phase)
-        axes[1].plot(stage, depth, ".-", color=colour, label=phase)
+        x = stage if years is None else years[stage - 1]
+        axes[0].plot(x, 100 * width, ".-", color=colour, label=phase)
+        axes[1].plot(x, depth, ".-", color=colour, label=phase)
         observed = table5_row(reference, "in-situ", k)
         if observed is not None:
             axes[0].axhline(100 * observed[0], color=colour, ls="--", lw=0.8)
@@ -94,11 +96,12 @@ def openings_history_plot(h5, name, out, reference):
     axes[0].set_ylabel("opening width (cm)")
     axes[1].set_ylabel("opening depth from the phase's top (m)")
     for ax in axes:
-        ax.set_xlabel("stage")
+        ax.set_xlabel("stage" if years is None else "year")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
     note = "dashed: in-situ maxima of phases I and II (paper Table 5)" if reference else ""
-    fig.suptitle(f"{name}: opening of each slab phase per stage (cf. paper Figs. 11-12)"
+    what = "per stage (cf. paper Figs. 11-12)" if years is None else "against time"
+    fig.suptitle(f"{name}: opening of each slab phase {what}"
                  + (f"\n{note}" if note else ""), fontsize=10)
     fig.tight_layout()
     fig.savefig(out, dpi=120)
@@ -115,33 +118,6 @@ def stage_years(h5):
             return None
         years.append(1970.0 + float(day) / 365.2425)
     return np.array(years)
-
-
-def openings_time_plot(h5, name, out, reference):
-    """Width (cm) and depth (m) of each phase's opening against time (decks whose stages all
-    have dates: time-dependent analyses, issue 19), observed maxima dashed."""
-    years = stage_years(h5)
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4))
-    for k, (phase, stage, width, depth) in enumerate(phase_openings(h5)):
-        colour = f"C{k}"
-        axes[0].plot(years[stage - 1], 100 * width, ".-", color=colour, label=phase)
-        axes[1].plot(years[stage - 1], depth, ".-", color=colour, label=phase)
-        observed = table5_row(reference, "in-situ", k)
-        if observed is not None:
-            axes[0].axhline(100 * observed[0], color=colour, ls="--", lw=0.8)
-            axes[1].axhline(observed[1], color=colour, ls="--", lw=0.8)
-    axes[0].set_ylabel("opening width (cm)")
-    axes[1].set_ylabel("opening depth from the phase's top (m)")
-    for ax in axes:
-        ax.set_xlabel("year")
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
-    fig.suptitle(f"{name}: opening of each slab phase against time"
-                 + ("\ndashed: in-situ maxima of phases I and II (paper Table 5)"
-                    if reference else ""), fontsize=10)
-    fig.tight_layout()
-    fig.savefig(out, dpi=120)
-    return fig
 
 
 def table5_row(reference, prefix, phase):
@@ -305,8 +281,9 @@ def main(argv=None):
                                                          out / "fig12-openings.png",
                                                          reference))
             if stage_years(first) is not None:
-                save("fig12-openings-time", openings_time_plot(
-                    first, names[0], out / "fig12-openings-time.png", reference))
+                save("fig12-openings-time", openings_history_plot(
+                    first, names[0], out / "fig12-openings-time.png", reference,
+                    stage_years(first)))
             else:
                 skipped.append("fig12-openings-time (a stage without a date in a date form)")
         else:
