@@ -53,6 +53,7 @@ import sys
 import time
 
 import numpy as np
+from cfrdtools import results
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -289,7 +290,7 @@ def read_results(base):
     import h5py
     out = {}
     with h5py.File(base + ".h5") as f:
-        st = [f["stages"][k] for k in sorted(f["stages"])]
+        st = results.stages(f)
         out["stages"] = len(st)
         out["increments"] = sum(int(g.attrs["increments"]) for g in st)
         out["factorisations"] = sum(int(g.attrs["factorisations"]) for g in st)
@@ -752,7 +753,6 @@ def main(argv=None):
     args.cfrd = os.path.abspath(args.cfrd)
     study, total, elapsed, n = run_study(args)
     plots = plot(study, args.plot_prefix)
-    sys.path.insert(0, HERE)
     text = report(study, total, n, plots, args)
     os.makedirs(os.path.dirname(os.path.abspath(args.markdown)), exist_ok=True)
     with open(args.markdown, "w") as f:

@@ -38,9 +38,9 @@ import sys
 
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
-import ccx_peer as peer  # noqa: E402
-import embankment as emb  # noqa: E402
+import ccx_peer as peer
+import embankment as emb
+from cfrdtools import results
 
 ROOT = os.path.dirname(HERE)
 
@@ -266,7 +266,7 @@ def bench_staged(cfrd, sizes, workdir, newton_max=10000):
                 row["error"] = done.stderr.strip().splitlines()[-1][:90]
             else:
                 with h5py.File(deck[:-4] + ".h5") as f:
-                    st = [f["stages"][k] for k in sorted(f["stages"])]
+                    st = results.stages(f)
                     row["inc"] = sum(int(g.attrs["increments"]) for g in st)
                     row["fact"] = sum(int(g.attrs["factorisations"]) for g in st)
                     row["iter"] = sum(int(g.attrs["iterations"]) for g in st)
@@ -322,7 +322,7 @@ def bench_tianshengqiao(cfrd, refinements, workdir, repeat, newton_max=2):
                 row["error"] = (done.stderr.strip().splitlines() or ["?"])[-1][:90]
             else:
                 with h5py.File(deck[:-4] + ".h5") as f:
-                    st = [f["stages"][k] for k in sorted(f["stages"])]
+                    st = results.stages(f)
                     row["stages"] = len(st)
                     row["nelem"] = f["mesh/connectivity"].shape[0]
                     row["inc"] = sum(int(g.attrs["increments"]) for g in st)
@@ -385,7 +385,7 @@ def bench_interfaces(cfrd, refinements, workdir, repeat,
                 # the figures of the fastest run
                 row["wall"] = wall
                 with h5py.File(deck[:-4] + ".h5") as f:
-                    st = [f["stages"][k] for k in sorted(f["stages"])]
+                    st = results.stages(f)
                     sv = [g["solver"].attrs for g in st]
 
                     def total(key, attrs=sv):
@@ -477,7 +477,7 @@ def bench_effects(cfrd, refinements, workdir, repeat):
                     # the figures of each run, so that they belong to the run reported
                     wall, rss, h5 = peer.run_cfrd(cfrd, deck, workdir)
                     with h5py.File(h5) as f:
-                        st = [f["stages"][k] for k in sorted(f["stages"])]
+                        st = results.stages(f)
                         sv = [g["solver"].attrs for g in st]
                         return wall, rss, dict(
                             stages=len(st),

@@ -16,8 +16,7 @@ import sys
 import h5py
 import numpy as np
 
-sys.path.insert(0, __file__.rsplit("/", 1)[0])
-import eb_reference as ref  # noqa: E402
+import eb_reference as ref
 
 
 def main(argv=None):
