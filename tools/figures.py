@@ -45,6 +45,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 from cfrdtools import results
+from cfrdtools.results import text
 
 import plot_interface
 import plot_section
@@ -55,10 +56,6 @@ except ModuleNotFoundError:  # Python < 3.11
     import tomli as tomllib
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
-
-
-def text(value):
-    return value.decode() if isinstance(value, bytes) else str(value)
 
 
 def find_reference(title, choice):

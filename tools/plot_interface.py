@@ -26,10 +26,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import MaxNLocator  # noqa: E402
 import numpy as np  # noqa: E402
 from cfrdtools import results
-
-
-def text(value):
-    return value.decode() if isinstance(value, bytes) else str(value)
+from cfrdtools.results import text
 
 
 def stages(h5):

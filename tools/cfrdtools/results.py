@@ -36,3 +36,8 @@ def read(f, dataset, number=None):
 def series(f, dataset, index=()):
     """dataset[index] of every stage, in order (e.g. a node's displacement history)."""
     return [g[dataset][index] for g in stages(f)]
+
+
+def text(value):
+    """An HDF5 string attribute (bytes or str) as str."""
+    return value.decode() if isinstance(value, bytes) else str(value)
