@@ -54,6 +54,8 @@ import time
 
 import numpy as np
 
+from cfrdtools import results, runner
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 GEN = os.path.join(HERE, "tianshengqiao.py")
@@ -261,9 +263,8 @@ def run_deck(cfrd, deck, force=False, repeat=3):
             os.remove(old)
     best = None
     for attempt in range(repeat):
-        t0 = time.perf_counter()
-        done = subprocess.run([cfrd, "--quiet", deck], capture_output=True, text=True)
-        wall = time.perf_counter() - t0
+        done = runner.run(cfrd, deck, check=False)
+        wall = done.wall
         if best is None or wall < best[0]:
             best = (wall, load1(), done)
         # repeat only short runs that succeed: a shared machine's noise is largest there
@@ -289,7 +290,7 @@ def read_results(base):
     import h5py
     out = {}
     with h5py.File(base + ".h5") as f:
-        st = [f["stages"][k] for k in sorted(f["stages"])]
+        st = results.stages(f)
         out["stages"] = len(st)
         out["increments"] = sum(int(g.attrs["increments"]) for g in st)
         out["factorisations"] = sum(int(g.attrs["factorisations"]) for g in st)
@@ -752,7 +753,6 @@ def main(argv=None):
     args.cfrd = os.path.abspath(args.cfrd)
     study, total, elapsed, n = run_study(args)
     plots = plot(study, args.plot_prefix)
-    sys.path.insert(0, HERE)
     text = report(study, total, n, plots, args)
     os.makedirs(os.path.dirname(os.path.abspath(args.markdown)), exist_ok=True)
     with open(args.markdown, "w") as f:

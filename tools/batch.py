@@ -31,6 +31,8 @@ import time
 import h5py
 import numpy as np
 
+from cfrdtools import results
+
 BATCH_ERROR = 101
 MAX_COUNT = 100
 STATUS_TEXT = {0: "ok", 1: "failed", 2: "bad input"}
@@ -71,8 +73,8 @@ def key_results(path):
     from a cfrd HDF5 file (layout: docs/results.md)."""
     with h5py.File(path, "r") as f:
         names = sorted(f["stages"])
-        groups = [g.decode() if isinstance(g, bytes) else str(g)
-                  for g in f["mesh/group_names"][...]] if "mesh/group_names" in f else []
+        groups = ([results.text(g) for g in f["mesh/group_names"][...]]
+                  if "mesh/group_names" in f else [])
         settlement = None
         opening = None
         for k, name in enumerate(names, start=1):

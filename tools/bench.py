@@ -38,9 +38,9 @@ import sys
 
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
-import ccx_peer as peer  # noqa: E402
-import embankment as emb  # noqa: E402
+import ccx_peer as peer
+import embankment as emb
+from cfrdtools import results, runner
 
 ROOT = os.path.dirname(HERE)
 
@@ -238,8 +238,6 @@ def bench_staged(cfrd, sizes, workdir, newton_max=10000):
     """(c) The homogeneous IIIB E-B embankment built in 20 layers, midpoint (2 increments a
     layer) and Newton (SOLVER = 3, tolerance 1e-6): wall time, increments, factorisations,
     Newton iterations, time per increment and per factorisation."""
-    import subprocess
-    import time
     import h5py
     rows = []
     for n in sizes:
@@ -256,17 +254,14 @@ def bench_staged(cfrd, sizes, workdir, newton_max=10000):
                 # CONTROL card (free format): NEWTOP 0, SOLVER 3, TOL 1e-6, MAXIT 20.
                 i = lines.index("CONTROL") + 1
                 lines[i] = lines[i] + ", 0, 3, 1e-6, 20"
-            with open(deck, "w") as f:
-                f.write("\n".join(lines) + "\n")
-            t0 = time.perf_counter()
-            done = subprocess.run([cfrd, "--quiet", deck], capture_output=True, text=True)
-            wall = time.perf_counter() - t0
+            done = runner.run(cfrd, runner.write_deck(deck, lines), check=False)
+            wall = done.wall
             row = dict(nelem=mesh.nelem, solver=solver, wall=wall)
             if done.returncode != 0:
                 row["error"] = done.stderr.strip().splitlines()[-1][:90]
             else:
                 with h5py.File(deck[:-4] + ".h5") as f:
-                    st = [f["stages"][k] for k in sorted(f["stages"])]
+                    st = results.stages(f)
                     row["inc"] = sum(int(g.attrs["increments"]) for g in st)
                     row["fact"] = sum(int(g.attrs["factorisations"]) for g in st)
                     row["iter"] = sum(int(g.attrs["iterations"]) for g in st)
@@ -296,7 +291,6 @@ def bench_tianshengqiao(cfrd, refinements, workdir, repeat, newton_max=2):
     """(d) The Tianshengqiao-I history at each refinement: midpoint (the paper's method,
     the deck's default) and, up to newton_max, the Newton variant (SOLVER 3, TOL 1e-10)."""
     import subprocess
-    import time
     import h5py
     import resource
     gen = os.path.join(HERE, "tianshengqiao.py")
@@ -310,9 +304,8 @@ def bench_tianshengqiao(cfrd, refinements, workdir, repeat, newton_max=2):
                             "--deck", deck], check=True)
             best = None
             for _ in range(repeat):
-                t0 = time.perf_counter()
-                done = subprocess.run([cfrd, "--quiet", deck], capture_output=True, text=True)
-                wall = time.perf_counter() - t0
+                done = runner.run(cfrd, deck, check=False)
+                wall = done.wall
                 if best is None or wall < best[0]:
                     best = (wall, done)
             wall, done = best
@@ -322,7 +315,7 @@ def bench_tianshengqiao(cfrd, refinements, workdir, repeat, newton_max=2):
                 row["error"] = (done.stderr.strip().splitlines() or ["?"])[-1][:90]
             else:
                 with h5py.File(deck[:-4] + ".h5") as f:
-                    st = [f["stages"][k] for k in sorted(f["stages"])]
+                    st = results.stages(f)
                     row["stages"] = len(st)
                     row["nelem"] = f["mesh/connectivity"].shape[0]
                     row["inc"] = sum(int(g.attrs["increments"]) for g in st)
@@ -362,7 +355,6 @@ def bench_interfaces(cfrd, refinements, workdir, repeat,
     (tools/tianshengqiao.py --interface): the solver and contact figures summed over the
     stages from the HDF5 solver attributes (docs/results.md)."""
     import subprocess
-    import time
     import h5py
     gen = os.path.join(HERE, "tianshengqiao.py")
     rows = []
@@ -373,9 +365,8 @@ def bench_interfaces(cfrd, refinements, workdir, repeat,
                             "--deck", deck], check=True)
             row = dict(r=r, interface=interface)
             for _ in range(repeat):
-                t0 = time.perf_counter()
-                done = subprocess.run([cfrd, "--quiet", deck], capture_output=True, text=True)
-                wall = time.perf_counter() - t0
+                done = runner.run(cfrd, deck, check=False)
+                wall = done.wall
                 if done.returncode != 0:
                     row["error"] = (done.stderr.strip().splitlines() or ["?"])[-1][:90]
                     row["wall"] = wall
@@ -385,7 +376,7 @@ def bench_interfaces(cfrd, refinements, workdir, repeat,
                 # the figures of the fastest run
                 row["wall"] = wall
                 with h5py.File(deck[:-4] + ".h5") as f:
-                    st = [f["stages"][k] for k in sorted(f["stages"])]
+                    st = results.stages(f)
                     sv = [g["solver"].attrs for g in st]
 
                     def total(key, attrs=sv):
@@ -477,7 +468,7 @@ def bench_effects(cfrd, refinements, workdir, repeat):
                     # the figures of each run, so that they belong to the run reported
                     wall, rss, h5 = peer.run_cfrd(cfrd, deck, workdir)
                     with h5py.File(h5) as f:
-                        st = [f["stages"][k] for k in sorted(f["stages"])]
+                        st = results.stages(f)
                         sv = [g["solver"].attrs for g in st]
                         return wall, rss, dict(
                             stages=len(st),

@@ -44,15 +44,14 @@ Asserted:
 import argparse
 import math
 import os
-import subprocess
 import sys
 
 import h5py
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import embankment as emb  # noqa: E402
-from ccx_peer import run_ccx  # noqa: E402
+import embankment as emb
+from cfrdtools import results, runner
+from cfrdtools.ccx import run_ccx
 
 L, T, H = 20.0, 0.5, 4.0         # slab and cushion length, slab thickness, cushion depth (m)
 NXS, NYS = 40, 2                 # slab quads: 0.5 x 0.25 m
@@ -234,7 +233,7 @@ def open_zones(x, g, limit=OPEN_GAP):
 
 def read_cfrd(h5path, m):
     with h5py.File(h5path, "r") as f:
-        st = f["stages"][sorted(f["stages"])[-1]]
+        st = results.last_stage(f)
         u, r = st["displacement"][...], st["reaction"][...]
         status = st["contact/status"][...]
         resid = float(st.attrs["max_residual"])
@@ -278,8 +277,7 @@ def run_case(cfrd, workdir, penalty=PENALTY, stick=STICK, slab_type=""):
     deck = os.path.join(workdir, "contact.dat")
     write_cfrd(deck, m, slab_type)
     write_ccx(os.path.join(workdir, "contact_ccx.inp"), m, penalty, stick)
-    run = subprocess.run([os.path.abspath(cfrd), "--quiet", os.path.abspath(deck)],
-                         capture_output=True, text=True)
+    run = runner.run(os.path.abspath(cfrd), os.path.abspath(deck), check=False)
     if run.returncode != 0:
         raise RuntimeError(f"cfrd exit {run.returncode}: {run.stderr.strip()[:300]}")
     run_ccx(workdir, "contact_ccx")

@@ -24,8 +24,8 @@ import sys
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
-import embankment as emb  # noqa: E402
+import embankment as emb
+from cfrdtools import results, runner
 
 
 def ccx_submesh_deck(mesh, layer_of_elem, k, path):
@@ -68,19 +68,12 @@ def ccx_submesh_deck(mesh, layer_of_elem, k, path):
 
 
 def run_cfrd(cfrd, mesh, newtop, workdir):
-    import h5py
     lines = emb.deck_lines(mesh)
     i = lines.index("CONTROL") + 1
     lines[i] = lines[i] + f", {newtop}"          # free format: NEWTOP after UNITS
     deck = os.path.join(workdir, f"staged-newtop{newtop}.dat")
-    with open(deck, "w") as f:
-        f.write("\n".join(lines) + "\n")
-    done = subprocess.run([cfrd, "--quiet", deck], capture_output=True, text=True)
-    if done.returncode != 0:
-        raise RuntimeError(done.stderr.strip())
-    with h5py.File(deck[:-4] + ".h5") as f:
-        last = sorted(f["stages"])[-1]
-        return f["stages"][last]["displacement"][...]
+    with results.open_results(runner.run_text(cfrd, deck, lines)) as f:
+        return results.read(f, "displacement")
 
 
 def main(argv=None):

@@ -11,15 +11,13 @@ quads as CPE4. Asserted: max |u_cfrd - u_ccx| / max |u_ccx| <= 1e-6 (ccx prints 
 """
 import argparse
 import os
-import subprocess
 import sys
 
-import h5py
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import embankment as emb  # noqa: E402
-from ccx_peer import run_ccx  # noqa: E402
+import embankment as emb
+from cfrdtools import results, runner
+from cfrdtools.ccx import run_ccx
 
 NX, NY, W, H, D = 8, 2, 8.0, 2.0, 0.1
 BLOCK = (5.0e4, 0.25, 20.0)
@@ -91,15 +89,14 @@ def main(argv=None):
     deck = os.path.join(args.workdir, "thin.dat")
     write_cfrd(deck, xy, conn, mat, pairs, top)
     write_ccx(os.path.join(args.workdir, "thin_ccx.inp"), xy, conn, mat, layer, top)
-    run = subprocess.run([args.cfrd, "--quiet", deck], capture_output=True, text=True)
+    run = runner.run(args.cfrd, deck, check=False)
     if run.returncode != 0:
         print(f"FAIL peer/ccx-thin-layer: cfrd exit {run.returncode}: {run.stderr[:300]}")
         return 1
     run_ccx(args.workdir, "thin_ccx")
     u_ccx = emb.ccx_displacement_array(os.path.join(args.workdir, "thin_ccx.dat"), len(xy))
-    with h5py.File(deck[:-4] + ".h5", "r") as h5:
-        name = sorted(h5["stages"])[-1]
-        u = h5["stages"][name]["displacement"][...]
+    with results.open_results(runner.h5_of(deck)) as h5:
+        u = results.read(h5, "displacement")
     u = u if u.shape == u_ccx.shape else u.T
     diff = float(np.abs(u - u_ccx).max() / np.abs(u_ccx).max())
     good = diff <= 1e-6

@@ -24,14 +24,12 @@ switched off does what docs/cards.md says, against a reference that cfrd does no
 
 import argparse
 import os
-import subprocess
 import sys
 
-import h5py
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import eb_reference  # noqa: E402  (the independent E-B integration)
+from cfrdtools import results, runner
+import eb_reference  # the independent E-B integration
 
 FIELDS = ("ROCKFILL", "UNLOAD", "WATER", "INTERFACE", "FRICTION", "SLIP", "PHASES")
 
@@ -57,20 +55,14 @@ class Checker:
 
     def run(self, name, text):
         path = os.path.join(self.workdir, name + ".dat")
-        with open(path, "w") as f:
-            f.write(text)
-        done = subprocess.run([self.cfrd, "--quiet", path], capture_output=True, text=True)
-        if done.returncode != 0:
-            raise RuntimeError(f"cfrd failed on {path}: {done.stderr.strip()[:300]}")
-        return h5py.File(path[:-4] + ".h5", "r")
+        return results.open_results(runner.run_text(self.cfrd, path, text))
 
     def report(self, name, ok, text):
         self.failed += not ok
         print(f"{'PASS' if ok else 'FAIL'} effects/{name}: {text}")
 
 
-def stages(h5):
-    return [h5["stages"][k] for k in sorted(h5["stages"])]
+stages = results.stages
 
 
 def unit_weights(deck_text):
@@ -203,7 +195,7 @@ def phases_off(checker, joint_text):
     st, st0 = stages(h5), stages(h5_base)
     weights = element_weights(h5, text)
     slab = np.zeros(len(weights), bool)
-    slab[h5["stages"][sorted(h5["stages"])[-1]]["slab/element"][...] - 1] = True
+    slab[results.last_stage(h5)["slab/element"][...] - 1] = True
     # the joints' elements belong to the slab phases too
     slab[h5["mesh/interface_elements"][...] - 1] = True
     first = next(i for i, s in enumerate(st) if np.any(s["active"][...][slab]))

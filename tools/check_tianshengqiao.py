@@ -39,6 +39,8 @@ import sys
 import h5py
 import numpy as np
 
+from cfrdtools import runner
+
 GAMMA_W_DEFAULT = 9.81
 
 
@@ -112,8 +114,6 @@ def interface_meshes():
     slab node on the interface with a cushion node at the same place (24 row lines at x1:
     the 23 slab elements' ends); the contact mesh's slab nodes meet cushion nodes only where
     both meshes must have one, the toe and the three phase tops (4)."""
-    import os
-    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
     import tianshengqiao as tsq
     ok = True
     geo, num, _, _ = tsq.generate(1, interface="joint")
@@ -167,8 +167,6 @@ FACE_TOLERANCE = 0.10           # issue 7: within 10 % (the paper's claim)
 def face_meshes():
     """The face-resolved contact meshes (tianshengqiao.py --face 4): at x4 the plain x4 mesh;
     at x1 the x4 mesh's cushion face nodes and slab, the body away from the band coarse."""
-    import os
-    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
     import tianshengqiao as tsq
 
     def parts(num, geo):
@@ -216,8 +214,7 @@ def face_openings(cfrd, workdir, levels):
         subprocess.run([sys.executable, gen, "--refine", str(r), "--face", "4", "--interface",
                         "contact", "--deck", deck], check=True)
         start = time.perf_counter()
-        run = subprocess.run([cfrd, "--quiet", "--out", workdir, deck], capture_output=True,
-                             text=True)
+        run = runner.run(cfrd, deck, "--out", workdir, check=False)
         seconds = time.perf_counter() - start
         if run.returncode != 0:
             print(f"FAIL tsq/face-x{r}-run: exit {run.returncode}: {run.stderr[:300]}")
@@ -302,8 +299,7 @@ def run_suite(cfrd, workdir):
     # and x4 with --face-run (docs/tianshengqiao.md section 8).
     ok &= face_openings(cfrd, os.path.join(workdir, "face"), (1,))
     for deck, extra in runs:
-        run = subprocess.run([cfrd, "--quiet", "--out", workdir, deck], capture_output=True,
-                             text=True)
+        run = runner.run(cfrd, deck, "--out", workdir, check=False)
         if run.returncode != 0:
             print(f"FAIL tsq/run {os.path.basename(deck)}: exit {run.returncode}: "
                   f"{run.stderr[:300]}")

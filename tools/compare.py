@@ -36,6 +36,7 @@ import re
 import sys
 
 import numpy as np
+from cfrdtools.results import text
 
 # quantity -> (location kind, components), in the order of docs/results.md.
 QUANTITIES = {
@@ -129,10 +130,6 @@ def sort_key(loc):
 def location_text(quantity, loc):
     kind = QUANTITIES[quantity][0]
     return "-" if kind == "stage" else f"{kind} {loc}"
-
-
-def text(value):
-    return value.decode() if isinstance(value, bytes) else str(value)
 
 
 # ------------------------------------------------------------------------------ readers

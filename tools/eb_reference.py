@@ -21,7 +21,6 @@ integrated with scipy's solve_ivp (RK45, rtol 1e-11).
 import argparse
 import math
 import os
-import subprocess
 import sys
 
 import numpy as np
@@ -111,19 +110,15 @@ def cfrd_deck(mat, s3, dq, steps, increments):
 
 
 def run_cfrd_case(cfrd, workdir, mat, s3, steps=9, increments=40, fraction=0.9):
-    import h5py
+    from cfrdtools import results, runner
     qf = failure_deviator(mat, s3)
     dq = fraction * qf / steps
     name = os.path.join(workdir, f"ps-{mat}-{s3:g}.dat")
-    with open(name, "w") as f:
-        f.write(cfrd_deck(mat, s3, dq, steps, increments))
-    done = subprocess.run([cfrd, "--quiet", name], capture_output=True, text=True)
-    if done.returncode != 0:
-        raise RuntimeError(f"cfrd failed on {name}: {done.stderr.strip()}")
-    with h5py.File(name[:-4] + ".h5") as f:
+    with results.open_results(runner.run_text(cfrd, name, cfrd_deck(mat, s3, dq, steps,
+                                                                   increments))) as f:
         e1, ev = [], []
         for s in range(steps):
-            u = f[f"stages/stage_{s + 3:04d}/displacement"][...]
+            u = results.read(f, "displacement", s + 3)
             e1.append(-u[2, 1])                 # node 3: top right; eps_y = u_y / 1 m
             ev.append(-u[2, 1] - u[2, 0])       # eps_v = -(eps_x + eps_y), eps_x = u_x / 1 m
     qs = dq * np.arange(1, steps + 1)

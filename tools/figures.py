@@ -44,12 +44,13 @@ import sys
 import h5py
 import matplotlib
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+from cfrdtools import results
+from cfrdtools.results import text
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
-import plot_interface  # noqa: E402
-import plot_section  # noqa: E402
+import plot_interface
+import plot_section
 
 try:
     import tomllib
@@ -57,10 +58,6 @@ except ModuleNotFoundError:  # Python < 3.11
     import tomli as tomllib
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
-
-
-def text(value):
-    return value.decode() if isinstance(value, bytes) else str(value)
 
 
 def find_reference(title, choice):
@@ -300,7 +297,7 @@ def main(argv=None):
     else:
         skipped.append("fig13-normal-stress (no INTERFACE or CONTACT)")
     with_slab = [(f, n) for f, n in zip(files, names)
-                 if "slab" in f["stages"][sorted(f["stages"])[-1]]]
+                 if "slab" in results.last_stage(f)]
     if with_slab:
         save("fig14-slab", plot_interface.slab_plot([f for f, _ in with_slab],
                                                     [n for _, n in with_slab],

@@ -14,11 +14,12 @@ import argparse
 import math
 import os
 import shutil
-import subprocess
 import sys
 
 import h5py
 import numpy as np
+
+from cfrdtools import results, runner
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DECKS = os.path.join(os.path.dirname(HERE), "test", "hard_cases")
@@ -261,8 +262,7 @@ class Run:
         if earlier is not None:       # the results of an earlier run, to be left untouched
             with open(self.h5, "wb") as fh:
                 fh.write(earlier)
-        run = subprocess.run([os.path.abspath(cfrd), "--quiet", os.path.abspath(self.deck)],
-                             capture_output=True, text=True)
+        run = runner.run(os.path.abspath(cfrd), os.path.abspath(self.deck), check=False)
         self.status, self.stderr = run.returncode, run.stderr.strip()
         path = self.h5 if self.status == 0 else self.incomplete
         self.stages = []
@@ -270,8 +270,8 @@ class Run:
         if os.path.exists(path):
             with h5py.File(path, "r") as f:
                 f.visititems(self._finite)
-                for k in sorted(f["stages"]):
-                    self.stages.append(self._stage(f["stages"][k]))
+                for g in results.stages(f):
+                    self.stages.append(self._stage(g))
 
     def _finite(self, name, obj):
         if isinstance(obj, h5py.Dataset) and obj.dtype.kind == "f":

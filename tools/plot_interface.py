@@ -25,10 +25,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import MaxNLocator  # noqa: E402
 import numpy as np  # noqa: E402
-
-
-def text(value):
-    return value.decode() if isinstance(value, bytes) else str(value)
+from cfrdtools import results
+from cfrdtools.results import text
 
 
 def stages(h5):
@@ -136,7 +134,7 @@ def contact_profile(h5, i, key):
     """Elevation, `key` and the separated flag (status open) of the placed contact slave
     nodes of stage index i, sorted by elevation; None when the stage has no contact
     results."""
-    g = h5["stages"][sorted(h5["stages"])[i]]
+    g = results.stages(h5)[i]
     if "contact" not in g:
         return None
     r = g["contact"]
@@ -161,7 +159,7 @@ def profile(h5, i, what):
 def interface_profile(h5, i, key):
     """Elevation and `key` of the active stations of stage index i, sorted by elevation;
     None when the stage has no interface results."""
-    g = h5["stages"][sorted(h5["stages"])[i]]
+    g = results.stages(h5)[i]
     if "interface" not in g:
         return None
     r = g["interface"]
@@ -174,7 +172,7 @@ def interface_profile(h5, i, key):
 
 def slab_profile(h5, i, key):
     """Elevation and `key` at the Gauss points of the active slab elements of stage i."""
-    g = h5["stages"][sorted(h5["stages"])[i]]
+    g = results.stages(h5)[i]
     if "slab" not in g:
         return None
     r = g["slab"]

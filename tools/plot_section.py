@@ -17,14 +17,11 @@ import argparse
 import h5py
 import matplotlib
 import numpy as np
+from cfrdtools.results import text
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.tri as mtri  # noqa: E402
-
-
-def text(value):
-    return value.decode() if isinstance(value, bytes) else str(value)
 
 
 def read(path, stage=None):

@@ -48,9 +48,8 @@ import os
 import shutil
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import batch  # noqa: E402
-import compare  # noqa: E402
+import batch
+import compare
 
 REFERENCE_DIR = "outputs/reference"
 CSV_SUFFIXES = ("-gauges.csv", "-openings.csv", "-slab.csv", "-interface.csv")

@@ -118,6 +118,8 @@ tool_checks() { # name command...
     [[ $status -eq 0 ]] || grep -q '^FAIL ' "$work/tool.txt" || fail "$name: exit $status"
 }
 # The independent peer: CalculiX checked on a closed form, then on the same embankment.
+# The shared layer of the tools (tools/cfrdtools): deck fields, results reading, the runner.
+tool_checks "cfrdtools" env PYTHONPATH=tools python3 -m cfrdtools.selftest
 tool_checks "peer --column" python3 tools/ccx_peer.py --cfrd "$cfrd" --column --workdir "$work/peer"
 tool_checks "peer --elements 1000" python3 tools/ccx_peer.py --cfrd "$cfrd" --elements 1000 \
     --workdir "$work/peer"

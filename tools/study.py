@@ -42,8 +42,7 @@ import shlex
 import subprocess
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import batch  # noqa: E402
+import batch
 
 PLACEHOLDER = re.compile(r"\{([A-Za-z][A-Za-z0-9_]*) *\}")
 STUDY_CARD = re.compile(r"^\*\s*study:\s*(\S+)\s*$", re.IGNORECASE)

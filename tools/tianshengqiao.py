@@ -42,7 +42,6 @@ import datetime
 import copy
 import math
 import re
-import sys
 import textwrap
 try:
     import tomllib                      # Python 3.11 and later
@@ -53,8 +52,7 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from embankment import fmt_int, fmt_real, fmt_alpha, free_real, FieldOverflow  # noqa: E402
+from embankment import fmt_int, fmt_real, fmt_alpha, free_real, FieldOverflow
 
 GEOMETRY = Path(__file__).resolve().parent.parent / "inputs" / "tianshengqiao-i.toml"
 GRAVITY_G = 9.81            # m/s2: density (kg/m3) * g / 1000 = unit weight (kN/m3)

@@ -16,8 +16,8 @@ import sys
 import h5py
 import numpy as np
 
-sys.path.insert(0, __file__.rsplit("/", 1)[0])
-import eb_reference as ref  # noqa: E402
+import eb_reference as ref
+from cfrdtools import results
 
 
 def main(argv=None):
@@ -29,13 +29,10 @@ def main(argv=None):
     with h5py.File(a.result) as f:
         x = f["mesh/coordinates"][...]
         radius, height = x[2]
-        stages = sorted(f["stages"])
         rows = []
         started = False
-        for name in stages:
-            g = f["stages"][name]
-            label = g.attrs["name"].decode() if isinstance(g.attrs["name"], bytes) \
-                else str(g.attrs["name"])
+        for g in results.stages(f):
+            label = results.text(g.attrs["name"])
             if label.startswith("RESET"):
                 started = True
                 continue

@@ -19,6 +19,7 @@ import sys
 
 import h5py
 import numpy as np
+from cfrdtools import results
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 MID_ROW = 709.3333333
@@ -27,7 +28,7 @@ MID_ROW = 709.3333333
 def figures(path):
     with h5py.File(path) as f:
         x = f["mesh/coordinates"][...]
-        stage = f["stages"][sorted(f["stages"])[-1]]
+        stage = results.last_stage(f)
         u = stage["displacement_total"][...]
         names = [n.decode().strip() if isinstance(n, bytes) else str(n).strip()
                  for n in f["gauges/names"][...]]

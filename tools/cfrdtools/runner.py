@@ -1,0 +1,60 @@
+"""Running bin/cfrd: find the binary, write a deck, run it, time it."""
+
+import os
+import subprocess
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+class CfrdFailed(RuntimeError):
+    """cfrd exited with a non-zero status; the message holds its stderr."""
+
+
+def find_cfrd(cfrd=None):
+    """The binary named, else bin/cfrd of the repository."""
+    return cfrd or os.path.join(ROOT, "bin", "cfrd")
+
+
+def write_deck(path, text):
+    """Write the deck text (a string or a list of lines) to path; returns path."""
+    if not isinstance(text, str):
+        text = "\n".join(text) + "\n"
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    with open(path, "w") as f:
+        f.write(text)
+    return path
+
+
+def h5_of(deck):
+    """The results file cfrd writes beside a deck."""
+    return os.path.splitext(deck)[0] + ".h5"
+
+
+def run(cfrd, deck, *args, check=True, quiet=True, limit=300):
+    """Run cfrd on deck; returns the CompletedProcess with .wall (s) added.
+
+    check=True raises CfrdFailed on a non-zero exit, with `limit` characters of stderr.
+    """
+    cmd = [cfrd] + (["--quiet"] if quiet else []) + list(args) + [deck]
+    t0 = time.perf_counter()
+    done = subprocess.run(cmd, capture_output=True, text=True)
+    done.wall = time.perf_counter() - t0
+    if check and done.returncode != 0:
+        raise CfrdFailed(f"cfrd failed on {deck}: {done.stderr.strip()[:limit]}")
+    return done
+
+
+def run_text(cfrd, deck, text, **kw):
+    """Write text to deck, run cfrd on it (run's keywords); returns the .h5 path."""
+    run(cfrd, write_deck(deck, text), **kw)
+    return h5_of(deck)
+
+
+def run_many(cfrd, decks, jobs=1, **kw):
+    """Run every deck, `jobs` at a time (threads: the work is in the child processes);
+    returns the CompletedProcess of each, in order."""
+    from concurrent.futures import ThreadPoolExecutor
+    kw.setdefault("check", False)
+    with ThreadPoolExecutor(max(1, jobs)) as pool:
+        return list(pool.map(lambda d: run(cfrd, d, **kw), decks))
