@@ -20,12 +20,13 @@ a reference computed here without cfrd code:
 import argparse
 import math
 import os
-import subprocess
 import sys
 
-import h5py
 import numpy as np
 from scipy.integrate import solve_ivp
+
+from cfrdtools.results import open_results, stages
+from cfrdtools.runner import run_text
 
 PA = 101.325
 NU_MAX = 0.49
@@ -141,16 +142,8 @@ def eb_cards(gamma):
 
 
 def run(cfrd, path, text):
-    with open(path, "w") as f:
-        f.write(text)
-    done = subprocess.run([cfrd, "--quiet", path], capture_output=True, text=True)
-    if done.returncode != 0:
-        raise RuntimeError(f"cfrd failed on {path}: {done.stderr.strip()}")
-    return h5py.File(path[:-4] + ".h5", "r")
-
-
-def stages(f):
-    return [f["stages"][k] for k in sorted(f["stages"].keys())]
+    """Write and run a deck (cfrdtools); its results file, open."""
+    return open_results(run_text(cfrd, path, text))
 
 
 def check_closed_form(cfrd, workdir, tol=5e-3):

@@ -28,9 +28,9 @@ import os
 import re
 import subprocess
 import sys
-import time
 
-import h5py
+from cfrdtools.results import open_results, stages, text
+from cfrdtools.runner import run
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 GENERATOR = os.path.join(ROOT, "tools", "tianshengqiao.py")
@@ -123,15 +123,12 @@ def figures(base):
         r = [x for x in rows if x["group"] == phase]
         out[w] = max(float(x["width_m"]) for x in r)
         out[d] = max(float(x["depth_m"]) for x in r)
-    with h5py.File(base + ".h5", "r") as f:
-        names = sorted(f["stages"])
-        aug = [k for k in names if f["stages"][k].attrs["date"].decode().startswith(
-            ("1999.08", "1999-08"))]
-        g = f["stages"][aug[-1]]
+    with open_results(base + ".h5") as f:
+        dated = [(text(g.attrs["date"]), g) for g in stages(f)]
+        g = [g for date, g in dated if date.startswith(("1999.08", "1999-08"))][-1]
         out["settlement"] = float(-g["displacement_total"][:, 1].min())
-        g = f["stages"][names[-1]]
+        out["end_date"], g = dated[-1]
         out["settlement_end"] = float(-g["displacement_total"][:, 1].min())
-        out["end_date"] = g.attrs["date"].decode()
     return out
 
 
@@ -162,14 +159,12 @@ def main(argv=None):
             generate(deck, *options)
             if edit:
                 edit(deck)
-        t0 = time.time()
-        done = subprocess.run([a.cfrd, "--quiet", deck], capture_output=True, text=True)
-        wall = time.time() - t0
+        done = run(a.cfrd, deck, check=False)
         if done.returncode != 0:
             print(f"{name}: cfrd failed: {done.stderr.strip()[:300]}")
             continue
         values = figures(deck[:-4])
-        values.update(name=name, what=what, wall=wall)
+        values.update(name=name, what=what, wall=done.wall)
         results.append(values)
     print("| variant | phase I width / depth (m) | phase II width / depth (m) | mean abs ln |"
           " max settlement 1999-08 (m) | at the end (m) | run (s) |")
