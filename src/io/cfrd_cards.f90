@@ -16,6 +16,9 @@ module cfrd_cards
     public :: read_deck_lines, classify_line, field_text, get_int, get_real, get_text
     public :: field_error, card_error, line_error, upper, is_comment, is_real, to_text
 
+    !> The UTF-8 byte-order mark, skipped at the start of a deck.
+    character(len=*), parameter :: utf8_bom = achar(239)//achar(187)//achar(191)
+
     !> Width of a fixed-format card.
     integer, parameter :: card_columns = 80
 
@@ -65,7 +68,7 @@ contains
         type(deck_lines_t), intent(out) :: deck
         type(error_t), allocatable, intent(out) :: error
         character(len=:), allocatable :: raw
-        integer :: unit, stat, size_bytes, i, n, start, k
+        integer :: unit, stat, size_bytes, i, n, start, k, first_byte
         logical :: exists
         character(len=256) :: msg
 
@@ -90,11 +93,16 @@ contains
                 return
             end if
         end if
-        ! Drop carriage returns (CRLF files) and count lines.
+        ! Drop a UTF-8 byte-order mark (editors on Windows save one) and carriage returns
+        ! (CRLF files), and count lines.
         allocate (character(len=len(raw)) :: deck%text)
         k = 0
         n = 0
-        do i = 1, len(raw)
+        first_byte = 1
+        if (len(raw) >= 3) then
+            if (raw(1:3) == utf8_bom) first_byte = 4
+        end if
+        do i = first_byte, len(raw)
             if (raw(i:i) == achar(13)) cycle
             k = k + 1
             deck%text(k:k) = raw(i:i)
