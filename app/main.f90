@@ -2,8 +2,8 @@
 !> writers. The only place where an error_t becomes an exit status.
 program cfrd_main
     use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
-    use cfrd_error, only: error_t, fatal_error, error_status, usage_error, io_error
-    use cfrd_strings, only: to_text
+    use cfrd_error, only: error_t, fatal_error, error_status, usage_error, interrupt_error, &
+                          terminate_error
     use cfrd_version, only: cfrd_version_string
     use cfrd_model, only: model_t
     use cfrd_results, only: results_t, stage_result_t
@@ -11,10 +11,12 @@ program cfrd_main
     use cfrd_stage_driver, only: run_analysis
     use cfrd_listing, only: write_summary
     use cfrd_run_output, only: run_output_t, begin_output, add_stage, finish_output, &
-                               keep_incomplete, discard_output
-    use cfrd_files, only: base_name, strip_extension, make_directories, is_directory
+                               keep_incomplete, discard_output, result_stem, &
+                               check_result_names
+    use cfrd_files, only: path_exists, is_directory, make_directories
+    use cfrd_signals, only: catch_stop_signals, stop_signal, signal_name
+    use cfrd_strings, only: to_text
     use cfrd_memory, only: tune_allocator
-    use cfrd_signals, only: catch_termination, termination_signal, signal_name
     implicit none
 
     type :: options_t
@@ -41,25 +43,25 @@ program cfrd_main
 
     call tune_allocator()
     call parse_command_line(options, decks, error)
-    if (.not. allocated(error)) call check_result_names(options, decks, error)
-    if (.not. allocated(error) .and. allocated(options%out_dir) .and. &
-        .not. options%check_only) call make_directories(options%out_dir, error)
+    if (.not. allocated(error)) call check_outputs(options, decks, error)
     if (allocated(error)) then
         write (error_unit, '(a)') 'cfrd: '//error%message
-        write (error_unit, '(a)') "Try 'cfrd --help'."
+        if (error%category == usage_error) write (error_unit, '(a)') "Try 'cfrd --help'."
         call exit(error_status(error))
     end if
 
-    ! SIGTERM and SIGINT stop the run at the end of the stage it is in (stream_stage).
-    if (.not. options%check_only) call catch_termination()
+    ! SIGINT / SIGTERM stop a run between increments, keeping its completed stages
+    ! (docs/results.md, "Stopped runs"); the remaining decks are not run.
+    call catch_stop_signals()
     worst = 0
     do i = 1, size(decks)
         call run_deck(trim(decks(i)), options, status)
         worst = max(worst, status)
-        if (termination_signal() /= 0) exit
+        if (stop_signal() /= 0) then
+            call report_stop(decks, i, status)
+            call exit(128 + stop_signal())
+        end if
     end do
-    ! A signal after the last stage: the results are complete, the status says it came.
-    if (termination_signal() /= 0) worst = max(worst, 128 + termination_signal())
     call exit(worst)
 
 contains
@@ -88,7 +90,11 @@ contains
                     ': OK (', model%mesh%nnode, ' nodes, ', model%mesh%nelem, ' elements)'
                 return
             end if
-            stem = result_stem(options, path)
+            if (allocated(options%out_dir)) then
+                stem = result_stem(path, options%out_dir)
+            else
+                stem = result_stem(path)
+            end if
             ! Each stage goes to the files when it is done; results keeps the last only.
             if (.not. allocated(error)) call begin_output(current%output, stem, model, error, &
                                                          options%legacy_listing)
@@ -102,6 +108,9 @@ contains
                     else
                         call report_incomplete(error, stem)
                     end if
+                    if (any(error%category == [interrupt_error, terminate_error])) &
+                        error%message = path//': '//error%message//'; '// &
+                                        last_stage_text(model, current%output%completed)
                 else if (allocated(current%write_error)) then
                     call move_alloc(current%write_error, error)
                     call discard_output(current%output)
@@ -152,29 +161,66 @@ contains
         end if
     end subroutine report_incomplete
 
+    !> 'last completed stage: 3/12 (layer 3)', or 'no stage completed'.
+    function last_stage_text(model, completed) result(text)
+        type(model_t), intent(in) :: model
+        integer, intent(in) :: completed
+        character(len=:), allocatable :: text
+        if (completed == 0) then
+            text = 'no stage completed'
+        else
+            text = 'last completed stage: '//to_text(completed)//'/'// &
+                   to_text(size(model%stages))//' ('//trim(model%stages(completed)%label)//')'
+        end if
+    end function last_stage_text
+
+    !> A stop signal came while deck `i` ran (its own message is printed if the signal
+    !> stopped its analysis): say whether it finished anyway and which decks are not run.
+    subroutine report_stop(decks, i, status)
+        character(len=*), intent(in) :: decks(:)
+        integer, intent(in) :: i, status
+        character(len=:), allocatable :: name
+        integer :: k
+        name = signal_name(stop_signal())
+        if (status < 128) write (error_unit, '(a)') 'cfrd: '//name//' came after '// &
+            trim(decks(i))//' had completed its analysis: it ran to its end'
+        if (i < size(decks)) then
+            write (error_unit, '(a)', advance='no') 'cfrd: stopped by '//name//'; not run:'
+            do k = i + 1, size(decks)
+                write (error_unit, '(a)', advance='no') ' '//trim(decks(k))
+            end do
+            write (error_unit, '(a)') ''
+        end if
+    end subroutine report_stop
+
+    !> Before any run: --out names a folder (created with its parents when missing, except
+    !> for --check, which writes nothing), and no two decks write the same result files.
+    subroutine check_outputs(options, decks, error)
+        type(options_t), intent(in) :: options
+        character(len=*), intent(in) :: decks(:)
+        type(error_t), allocatable, intent(out) :: error
+        if (allocated(options%out_dir)) then
+            if (path_exists(options%out_dir) .and. .not. is_directory(options%out_dir)) then
+                call fatal_error(error, '--out '//options%out_dir//': a file of that name '// &
+                                 'exists; --out names the folder for the results', usage_error)
+                return
+            end if
+            call check_result_names(decks, error, options%out_dir)
+            if (.not. allocated(error) .and. .not. options%check_only) &
+                call make_directories(options%out_dir, error)
+        else
+            call check_result_names(decks, error)
+        end if
+    end subroutine check_outputs
+
     !> After each stage: write it to the result files, then print its progress line.
     subroutine stream_stage(number, total, stage)
         integer, intent(in) :: number, total
         type(stage_result_t), intent(in) :: stage
         type(error_t), allocatable :: error
-        integer :: signal
         if (.not. allocated(current%write_error)) then
             call add_stage(current%output, current%model, number, stage, error)
             if (allocated(error)) call move_alloc(error, current%write_error)
-        end if
-        ! A termination signal: keep the completed stages as DECK.incomplete.h5, remove the
-        ! temporary files, and stop with 128 + the signal's number (130 SIGINT, 143 SIGTERM).
-        signal = termination_signal()
-        if (signal /= 0 .and. number < total) then
-            call fatal_error(error, 'stopped by '//signal_name(signal)//' after stage '// &
-                             to_text(number)//' of '//to_text(total), io_error)
-            if (allocated(current%write_error)) then
-                call discard_output(current%output)
-            else
-                call report_incomplete(error, current%output%stem)
-            end if
-            write (error_unit, '(a)') 'cfrd: '//error%message
-            call exit(128 + signal)
         end if
         if (options%quiet) return
         write (output_unit, '(a,i0,a,i0,2a,i0,a,i0,a,i0,a,i0,a,es9.2,a,f8.3,a)') '  stage ', &
@@ -190,15 +236,19 @@ contains
         character(len=:), allocatable, intent(out) :: decks(:)
         type(error_t), allocatable, intent(out) :: error
         character(len=4096) :: arg
-        integer :: i, n, ndeck
-        logical :: exists
+        integer :: i, n, ndeck, length
         n = command_argument_count()
         allocate (character(len=4096) :: decks(n))
         ndeck = 0
         i = 0
         do while (i < n)
             i = i + 1
-            call get_command_argument(i, arg)
+            call get_command_argument(i, arg, length)
+            if (length > len(arg)) then
+                call fatal_error(error, 'argument '//to_text(i)//' is longer than '// &
+                                 to_text(len(arg))//' characters', usage_error)
+                return
+            end if
             select case (trim(arg))
             case ('-h', '--help')
                 call print_help()
@@ -219,23 +269,13 @@ contains
                     return
                 end if
                 i = i + 1
-                call get_command_argument(i, arg)
-                options%out_dir = trim(arg)
-                ! An unset $OUT in a job script: never the root of the file system.
-                if (len(options%out_dir) == 0) then
-                    call fatal_error(error, 'option --out needs a folder name (found an '// &
-                                     'empty one)', usage_error)
+                call get_command_argument(i, arg, length)
+                if (len_trim(arg) == 0 .or. length > len(arg)) then
+                    call fatal_error(error, 'option --out needs a folder name of 1 to '// &
+                                     to_text(len(arg))//' characters', usage_error)
                     return
                 end if
-                ! A file of that name: the results cannot go into it.
-                if (.not. is_directory(options%out_dir)) then
-                    inquire (file=options%out_dir, exist=exists)
-                    if (exists) then
-                        call fatal_error(error, 'option --out names the file '// &
-                                         options%out_dir//', not a folder', usage_error)
-                        return
-                    end if
-                end if
+                options%out_dir = trim(arg)
             case default
                 if (arg(1:1) == '-') then
                     call fatal_error(error, "unknown option '"//trim(arg)//"'", usage_error)
@@ -252,39 +292,6 @@ contains
         decks = decks(1:ndeck)
     end subroutine parse_command_line
 
-    !> Two decks whose results would have the same names (the same base name into one --out
-    !> folder, or one deck listed twice) are refused before anything runs.
-    subroutine check_result_names(options, decks, error)
-        type(options_t), intent(in) :: options
-        character(len=*), intent(in) :: decks(:)
-        type(error_t), allocatable, intent(out) :: error
-        integer :: i, j
-        if (options%check_only) return
-        do i = 2, size(decks)
-            do j = 1, i - 1
-                if (result_stem(options, decks(i)) == result_stem(options, decks(j))) then
-                    call fatal_error(error, 'decks '//trim(decks(j))//' and '// &
-                                     trim(decks(i))//' would both write their results to '// &
-                                     result_stem(options, decks(i))//'.*: run them into '// &
-                                     'different --out folders, or rename one', usage_error)
-                    return
-                end if
-            end do
-        end do
-    end subroutine check_result_names
-
-    !> Where a deck's results go: DECK without its extension, or DIR/its base name.
-    function result_stem(options, path) result(stem)
-        type(options_t), intent(in) :: options
-        character(len=*), intent(in) :: path
-        character(len=:), allocatable :: stem
-        if (allocated(options%out_dir)) then
-            stem = options%out_dir//'/'//strip_extension(base_name(trim(path)))
-        else
-            stem = strip_extension(trim(path))
-        end if
-    end function result_stem
-
     subroutine print_help()
         write (output_unit, '(a)') &
             'Usage: cfrd [options] DECK [DECK ...]', &
@@ -292,11 +299,14 @@ contains
             'Runs each card deck (docs/cards.md) and writes DECK.out (listing), DECK.h5', &
             '(results, docs/results.md) and DECK.xmf (for ParaView) beside it, or in', &
             '--out DIR. A failed analysis keeps its completed stages in', &
-            'DECK.incomplete.h5 and leaves earlier results untouched.', &
+            'DECK.incomplete.h5 and leaves earlier results untouched; so does a run', &
+            'stopped by SIGINT (Ctrl-C) or SIGTERM (Slurm''s time limit): it stops before', &
+            'the next load increment. A second signal of the same kind ends it at once.', &
             '', &
             'Options:', &
             '  --check       read and validate the decks only', &
-            '  --out DIR     write results into DIR (made if missing)', &
+            '  --out DIR     write results into DIR (created if missing); two decks of', &
+            '                the same name are refused (exit 2)', &
             '  --quiet       print nothing but errors', &
             '  --legacy-listing', &
             '                also write DECK.lst: the legacy codes'' per-layer tables of', &
@@ -304,6 +314,8 @@ contains
             '  --version     print the version', &
             '  --help        print this help', &
             '', &
-            'Exit status: 0 all decks ran, 1 a numerical or file failure, 2 bad input or usage.'
+            'Exit status: 0 all decks ran, 1 a numerical or file failure, 2 bad input or', &
+            'usage, 130 stopped by SIGINT, 143 stopped by SIGTERM (the remaining decks', &
+            'are not run).'
     end subroutine print_help
 end program cfrd_main

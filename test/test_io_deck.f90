@@ -40,6 +40,7 @@ contains
                 new_unittest('loads', test_loads), &
                 new_unittest('control_card', test_control), &
                 new_unittest('comments_blank_lines_crlf', test_comments_crlf), &
+                new_unittest('utf8_byte_order_mark', test_utf8_bom), &
                 new_unittest('fortran_real_syntax', test_real_syntax), &
                 new_unittest('bad_deck_is_an_input_error', test_bad_deck_error), &
                 new_unittest('bad_unknown_group', bad_unknown_group), &
@@ -331,6 +332,23 @@ contains
         if (allocated(error)) return
         call check(error, model%mesh%nelem, 2, 'elements')
     end subroutine test_comments_crlf
+
+    !> A UTF-8 byte-order mark before the first card is skipped: a deck whose first card is a
+    !> header (the fault: 'data card before any group header') reads as without it, with its
+    !> columns counted from the first character after the mark.
+    subroutine test_utf8_bom(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(model_t) :: model
+        character(len=*), parameter :: bom = achar(239)//achar(187)//achar(191)
+        call read_text('bom.dat', bom//'NODES'//nl//standard_nodes()// &
+                       'ELEMENTS'//nl//'    1    1    2    5    4    1    1'//nl// &
+                       'MATERIALS'//nl//'    1ELASTIC'//nl//'   20000.0       0.3'//nl// &
+                       'BOUNDARY'//nl//'    1    3    1    1    1'//nl//'END'//nl, model, error)
+        if (allocated(error)) return
+        call check(error, model%mesh%x(1, 6), 4.0_dp, 'x of node 6', abs=0.0_dp)
+        if (allocated(error)) return
+        call check(error, model%mesh%nelem, 2, 'elements')
+    end subroutine test_utf8_bom
 
     !> F10.0 fields in Fortran syntax: '2.0D4', '20000', '.2E5', '2E+004', '20D+003' are all
     !> 20000; '.25' is 0.25.

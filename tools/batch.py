@@ -13,9 +13,18 @@ DIR/batch-summary.csv: deck, status, stages, wall time, the largest settlement s
 placement over all stages (with its node and stage) and the largest interface opening over
 all stages (with its slab phase and stage; blank for decks without INTERFACE cards).
 
+SIGINT (Ctrl-C) or SIGTERM (Slurm's time limit) stops the batch: the signal is passed on to
+the decks running, which stop before their next load increment and keep their completed
+stages in DIR/DECK.incomplete.h5 (docs/results.md, "Stopped runs"); the decks not yet
+started are not run; the summary table and CSV are still written, with the status
+"stopped (SIGTERM)" or "not run". A second signal ends the batch at once.
+
 Exit status: 0 when every deck ran; otherwise the number of decks that failed (1-100,
 100 meaning 100 or more); 101 when the batch could not start (bad arguments, no cfrd
-program, two decks that would write the same result files).
+program, --out naming a file, two decks that would write the same result files, which is
+checked before any run: the message names both); 130 / 143 when stopped by SIGINT /
+SIGTERM. (The batch's own "could not start" is 101, not cfrd's 2: here 2 means that two
+decks failed.)
 """
 
 import argparse
@@ -35,7 +44,52 @@ from cfrdtools import results
 
 BATCH_ERROR = 101
 MAX_COUNT = 100
-STATUS_TEXT = {0: "ok", 1: "failed", 2: "bad input"}
+STATUS_TEXT = {0: "ok", 1: "failed", 2: "bad input", 130: "stopped (SIGINT)",
+               143: "stopped (SIGTERM)"}
+
+
+class Stopped(Exception):
+    """SIGINT or SIGTERM arrived (raised in the main thread by the handler)."""
+
+    def __init__(self, signum):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = signum
+
+
+def stop_on_signal(signum, frame):
+    # A second signal ends the batch at once (the decks running have the first already).
+    default_signals()
+    raise Stopped(signum)
+
+
+def default_signals():
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, signal.SIG_DFL)
+
+
+class Running:
+    """The cfrd processes running, and the signal that stops the batch (0: none)."""
+
+    def __init__(self):
+        self.lock = threading.Lock()
+        self.procs = set()
+        self.signum = 0
+
+    def start(self, proc):
+        with self.lock:
+            self.procs.add(proc)
+            if self.signum:
+                proc.send_signal(self.signum)    # started while the batch was stopping
+
+    def end(self, proc):
+        with self.lock:
+            self.procs.discard(proc)
+
+    def stop(self, signum):
+        with self.lock:
+            self.signum = signum
+            for proc in self.procs:
+                proc.send_signal(signum)
 
 
 class DeckRun:
@@ -94,7 +148,7 @@ def key_results(path):
         return len(names), settlement, opening
 
 
-def run_one(run, cfrd, out, running, lock):
+def run_one(run, cfrd, out, running):
     log = os.path.join(out, run.stem + ".log")
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
     start = time.monotonic()
@@ -107,11 +161,9 @@ def run_one(run, cfrd, out, running, lock):
             run.message = f"cannot start {cfrd}: {exc.strerror}"
             fh.write(run.message + "\n")
             return run
-        with lock:
-            running.add(proc)
+        running.start(proc)
         proc.wait()
-        with lock:
-            running.discard(proc)
+        running.end(proc)
     run.wall = time.monotonic() - start
     run.returncode = proc.returncode
     if run.ok:
@@ -130,30 +182,41 @@ def run_one(run, cfrd, out, running, lock):
     return run
 
 
+class BatchRuns(list):
+    """The DeckRun of each deck in deck order; `stopped` is the signal that stopped the
+    batch (0: none; the decks it kept from starting are "not run")."""
+    stopped = 0
+
+
 def run_batch(decks, cfrd, out, jobs, progress=None):
-    """Run the decks, at most `jobs` at a time; returns their DeckRun in deck order."""
-    runs = [DeckRun(d, stem_of(d)) for d in decks]
-    running, lock = set(), threading.Lock()
+    """Run the decks, at most `jobs` at a time; returns their BatchRuns. On Stopped (the
+    handlers main installs) the decks running get the signal and are waited for; on a
+    KeyboardInterrupt they are too, then it is raised again."""
+    runs = BatchRuns(DeckRun(d, stem_of(d)) for d in decks)
+    running = Running()
     done = 0
     pool = concurrent.futures.ThreadPoolExecutor(max_workers=jobs)
     futures = []
     try:
         # Largest decks first: the last to finish is then a small one (shorter total time).
         order = sorted(runs, key=lambda r: -deck_size(r.deck))
-        futures = [pool.submit(run_one, r, cfrd, out, running, lock) for r in order]
+        futures = [pool.submit(run_one, r, cfrd, out, running) for r in order]
         for fut in concurrent.futures.as_completed(futures):
             run = fut.result()
             done += 1
             if progress:
                 progress(done, len(runs), run)
-    except KeyboardInterrupt:
+    except (Stopped, KeyboardInterrupt) as exc:
+        signum = exc.signum if isinstance(exc, Stopped) else signal.SIGINT
         for f in futures:
             f.cancel()
-        with lock:
-            for proc in running:
-                proc.terminate()
+        running.stop(signum)
+        # The decks running write their incomplete results before they end.
         pool.shutdown(wait=True)
-        raise
+        if not isinstance(exc, Stopped):
+            raise
+        runs.stopped = int(signum)
+        return runs
     pool.shutdown(wait=True)
     return runs
 
@@ -259,27 +322,39 @@ def main(argv=None):
         error = f"--jobs must be at least 1, found {args.jobs}"
     elif not (os.path.isfile(args.cfrd) and os.access(args.cfrd, os.X_OK)):
         error = f"{args.cfrd}: no such program (make build makes bin/cfrd)"
+    elif os.path.exists(args.out) and not os.path.isdir(args.out):
+        error = f"--out {args.out}: a file of that name exists; --out names the folder " \
+                f"for the results"
     else:
         error = check_decks(args.decks)
     if error:
         print(f"batch: {error}", file=sys.stderr)
         return BATCH_ERROR
-    os.makedirs(args.out, exist_ok=True)
+    try:
+        os.makedirs(args.out, exist_ok=True)
+    except OSError as exc:
+        print(f"batch: cannot create the folder {args.out}: {exc.strerror}", file=sys.stderr)
+        return BATCH_ERROR
 
     def progress(done, total, run):
         if not args.quiet:
             print(f"[{done}/{total}] {run.deck}: {run.status}, {run.wall:.2f} s"
                   + (f": {run.message}" if run.message else ""), flush=True)
-    try:
-        runs = run_batch(args.decks, args.cfrd, args.out, args.jobs, progress)
-    except KeyboardInterrupt:
-        print("batch: interrupted", file=sys.stderr)
-        return BATCH_ERROR
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, stop_on_signal)
+    runs = run_batch(args.decks, args.cfrd, args.out, args.jobs, progress)
+    stopped = runs.stopped
+    default_signals()     # the runs are over: a signal now ends the batch at once
     print()
     print_summary(runs)
     summary = os.path.join(args.out, "batch-summary.csv")
     write_summary_csv(runs, summary)
     print(f"Results and logs in {args.out}/; this table in {summary}")
+    if stopped:
+        print(f"batch: stopped by {signal.Signals(stopped).name}: the decks that were "
+              f"running keep their completed stages in {args.out}/DECK.incomplete.h5; "
+              f"the others are not run", file=sys.stderr)
+        return 128 + stopped
     return exit_status(runs)
 
 

@@ -6,7 +6,13 @@ section 3), run by make test:
              log, the others run (listing, HDF5 file, log each), the exit status is the
              number of failed decks (1), the summary's settlement of the column is its
              closed form gamma H^2 / (2M) (1e-9) and the triaxial test has its 11 stages;
-             three bad decks give exit status 3; two decks of the same name, 101;
+             three bad decks give exit status 3; two decks of the same name, 101 (also
+             from two folders: the message names both, nothing is run); --out naming a
+             file, 101; a missing --out folder is created;
+  stop       SIGTERM to a batch of two decks run one at a time, once the first has
+             written a stage: exit status 143, the first deck "stopped (SIGTERM)" with
+             its completed stages in DECK.incomplete.h5 and no .part file, the second
+             "not run", the summary CSV written (tools/check_stop.py checks the stages);
   parallel   with --jobs 2 two decks run at the same time (a stand-in program waits for
              the other deck to start: run one after the other, it would give up after
              30 s and fail); with --jobs 1 never two at once;
@@ -32,10 +38,15 @@ Prints one PASS/FAIL line per check; exit status 1 if any failed.
 
 import argparse
 import csv
+import glob
 import os
 import shutil
+import signal
 import subprocess
 import sys
+import time
+
+import h5py
 
 TOOLS = os.path.dirname(os.path.abspath(__file__))
 failures = 0
@@ -106,6 +117,63 @@ def check_batch(cfrd, work):
                         "inputs/example.dat", "test/study/../../inputs/example.dat")
     verdict(status == 101 and "would both write example.out" in text, "batch/same-name",
             f"two decks named example: exit {status} (expected 101): {text.strip()}")
+    for folder in ("a", "b"):
+        os.makedirs(os.path.join(work, "names", folder))
+        shutil.copy("inputs/example.dat", os.path.join(work, "names", folder, "col.dat"))
+    decks = [os.path.join(work, "names", f, "col.dat") for f in ("a", "b")]
+    same = os.path.join(work, "names", "same")
+    status, text = tool("batch.py", "--cfrd", cfrd, "--out", same, *decks)
+    verdict(status == 101 and f"{decks[0]} and {decks[1]} would both write" in text and
+            not os.path.exists(same), "batch/same-name-two-folders",
+            f"col.dat from two folders into one --out: exit {status} (expected 101), "
+            f"nothing run: {not os.path.exists(same)}: {text.strip()}")
+    a_file = os.path.join(work, "names", "a-file")
+    open(a_file, "w").close()
+    status, text = tool("batch.py", "--cfrd", cfrd, "--out", a_file, decks[0])
+    verdict(status == 101 and "a file of that name exists" in text, "batch/out-is-a-file",
+            f"--out naming a file: exit {status} (expected 101): {text.strip()[-200:]}")
+    deep = os.path.join(work, "names", "new", "deep")
+    status, text = tool("batch.py", "--quiet", "--cfrd", cfrd, "--out", deep, decks[0])
+    verdict(status == 0 and os.path.getsize(os.path.join(deep, "col.h5")) > 0,
+            "batch/out-creates-folder", f"a missing --out folder: exit {status}, "
+            f"col.h5 in it: {os.path.exists(os.path.join(deep, 'col.h5'))}")
+
+
+def check_stop(cfrd, work):
+    """SIGTERM to the batch once its first deck has written a stage."""
+    out = os.path.join(work, "stop")
+    first, second = "inputs/tianshengqiao-x2.dat", "inputs/example.dat"
+    log = os.path.join(out, "tianshengqiao-x2.log")
+    proc = subprocess.Popen([sys.executable, os.path.join(TOOLS, "batch.py"), "--cfrd", cfrd,
+                             "--jobs", "1", "--out", out, first, second],
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    sent = False
+    end = time.monotonic() + 300
+    while not sent and time.monotonic() < end and proc.poll() is None:
+        if os.path.exists(log):
+            with open(log) as fh:
+                sent = "stage 2/" in fh.read()
+        if sent:
+            proc.send_signal(signal.SIGTERM)
+        else:
+            time.sleep(0.01)
+    text = proc.communicate()[0]
+    rows = {r["deck"]: r for r in read_rows(os.path.join(out, "batch-summary.csv"))} \
+        if os.path.exists(os.path.join(out, "batch-summary.csv")) else {}
+    incomplete = os.path.join(out, "tianshengqiao-x2.incomplete.h5")
+    stages = 0
+    if os.path.exists(incomplete):
+        with h5py.File(incomplete, "r") as f:
+            stages = len(f["stages"]) if f.attrs["complete"] == 0 else -1
+    parts = glob.glob(os.path.join(out, "*.part"))
+    statuses = {d: rows.get(d, {}).get("status") for d in (first, second)}
+    ok = sent and proc.returncode == 143 and statuses == {
+        first: "stopped (SIGTERM)", second: "not run"} and stages >= 1 and not parts and \
+        not os.path.exists(os.path.join(out, "example.h5"))
+    verdict(ok, "batch/sigterm", f"exit {proc.returncode} (expected 143), summary "
+            f"statuses {statuses}, {stages} stages in tianshengqiao-x2.incomplete.h5 "
+            f"(expected >= 1), .part files left: {parts or 'none'}"
+            + ("" if ok else "\n" + text[-500:]))
 
 
 def check_parallel(work):
@@ -269,6 +337,7 @@ def main():
     shutil.rmtree(args.workdir, ignore_errors=True)
     os.makedirs(args.workdir)
     check_batch(args.cfrd, args.workdir)
+    check_stop(args.cfrd, args.workdir)
     check_parallel(args.workdir)
     check_study(args.cfrd, args.workdir)
     check_slurm(args.cfrd, args.workdir)

@@ -61,37 +61,61 @@ check_status cli/missing-deck-file 2 "$cfrd" "$work/no-such-deck.dat"
 check_status cli/version 0 "$cfrd" --version
 check_status cli/help 0 "$cfrd" --help
 check_status cli/check-good-deck 0 "$cfrd" --check inputs/example.dat
+check_status cli/out-without-folder 2 "$cfrd" inputs/example.dat --out
+check_status cli/out-empty-name 2 "$cfrd" --check --out "" inputs/example.dat
+
+# 2b'. Usage errors that protect results (issue 18, part 4): exit 2, the message, no run.
+check_message() { # name expected-status message command...
+    local name=$1 expected=$2 message=$3
+    shift 3
+    "$@" >"$work/out.txt" 2>"$work/err.txt"
+    local status=$?
+    if [[ $status -ne $expected ]]; then
+        fail "$name: exit status $status, expected $expected: $(head -c 300 "$work/err.txt")"
+    elif ! grep -qF -- "$message" "$work/err.txt"; then
+        fail "$name: message lacks '$message': $(head -c 300 "$work/err.txt")"
+    else
+        pass "$name"
+    fi
+}
+# Two decks of the same name from different folders into one --out folder: refused before
+# any run (the second used to overwrite the first); so is one deck named twice.
+mkdir -p "$work/names/a" "$work/names/b"
+cp inputs/example.dat "$work/names/a/col.dat"
+cp inputs/example.dat "$work/names/b/col.dat"
+mkdir -p "$work/names/same"     # an existing folder: the second deck would overwrite
+check_message cli/out-same-name-refused 2 \
+    "$work/names/a/col.dat and $work/names/b/col.dat would both write" \
+    "$cfrd" --quiet --out "$work/names/same" "$work/names/a/col.dat" "$work/names/b/col.dat"
+if [[ -e $work/names/same/col.h5 ]]; then fail "cli/out-same-name-no-run: col.h5 written"
+else pass cli/out-same-name-no-run; fi
+check_message cli/same-deck-twice-refused 2 "would both write" \
+    "$cfrd" --quiet "$work/names/a/col.dat" "$work/names/b/../a/col.dat"
+# --out naming a missing folder creates it (with its parents); naming a file is refused.
+check_status cli/out-creates-folder 0 "$cfrd" --quiet --out "$work/names/new/deep" \
+    "$work/names/a/col.dat"
+if [[ -s $work/names/new/deep/col.h5 && -s $work/names/new/deep/col.out ]]; then
+    pass cli/out-created-folder-has-results; else fail cli/out-created-folder-has-results; fi
+touch "$work/names/a-file"
+check_message cli/out-is-a-file 2 "a file of that name exists" \
+    "$cfrd" --quiet --out "$work/names/a-file" "$work/names/a/col.dat"
+# A deck saved with a UTF-8 byte-order mark reads as the same deck without it.
+printf '\xef\xbb\xbf' >"$work/names/bom.dat"
+cat inputs/example.dat >>"$work/names/bom.dat"
+"$cfrd" --check "$work/names/bom.dat" >"$work/out.txt" 2>"$work/err.txt"
+status=$?
+expected=$("$cfrd" --check inputs/example.dat | sed 's/^.*: OK/OK/')
+if [[ $status -eq 0 && $(sed 's/^.*: OK/OK/' "$work/out.txt") == "$expected" ]]; then
+    pass "cli/utf8-bom-deck"
+else
+    fail "cli/utf8-bom-deck: exit $status: $(head -c 300 "$work/err.txt" "$work/out.txt")"
+fi
 
 # 2c. --out puts both result files in the directory named; --quiet prints nothing.
 mkdir -p "$work/out"
 "$cfrd" --quiet --out "$work/out" inputs/example.dat >"$work/out.txt" 2>&1
 if [[ $? -eq 0 && -s $work/out/example.out && -s $work/out/example.h5 && ! -s $work/out.txt ]]
 then pass cli/out-dir-and-quiet; else fail "cli/out-dir-and-quiet: $(head -c 200 "$work/out.txt")"; fi
-
-# 2c'. Batch runs that lose nothing (issue 18): --out makes its folder; --out naming a file,
-# or empty (an unset $OUT), is a usage error; two decks whose results would share names are
-# refused before anything runs; a deck saved with a UTF-8 byte-order mark reads as without.
-"$cfrd" --quiet --out "$work/made/for/it" inputs/example.dat >"$work/out.txt" 2>&1
-if [[ $? -eq 0 && -s $work/made/for/it/example.h5 ]]; then pass cli/out-makes-its-folder
-else fail "cli/out-makes-its-folder: $(head -c 200 "$work/out.txt")"; fi
-touch "$work/a-file"
-check_status cli/out-names-a-file 2 "$cfrd" --quiet --out "$work/a-file" inputs/example.dat
-check_status cli/out-empty 2 "$cfrd" --quiet --out "" inputs/example.dat
-mkdir -p "$work/twins/a" "$work/twins/b"
-cp inputs/example.dat "$work/twins/a/dam.dat"
-cp inputs/example.dat "$work/twins/b/dam.dat"
-"$cfrd" --quiet --out "$work/twins/out" "$work/twins/a/dam.dat" "$work/twins/b/dam.dat" \
-    >"$work/out.txt" 2>"$work/err.txt"
-status=$?
-if [[ $status -eq 2 && ! -e $work/twins/out ]] && grep -q "twins/a/dam.dat and .*twins/b/dam.dat" \
-    "$work/err.txt"; then pass cli/result-name-collision
-else fail "cli/result-name-collision: exit $status: $(head -c 200 "$work/err.txt")"; fi
-printf '\xef\xbb\xbf' >"$work/bom.dat"
-cat inputs/example.dat >>"$work/bom.dat"
-check_status cli/byte-order-mark 0 "$cfrd" --check "$work/bom.dat"
-
-# SIGTERM / SIGINT: the run stops after the stage it is in and keeps the completed stages.
-tool_checks "interrupt" python3 tools/check_interrupt.py --cfrd "$cfrd" --workdir "$work/interrupt"
 
 # 2d. A failed run leaves the results of an earlier run byte-identical, and no temporary files.
 tools/cli_failure_test.sh "$cfrd" "$work/failure" && pass cli/failed-run-keeps-results ||
@@ -117,6 +141,8 @@ tool_checks() { # name command...
     done <<<"$lines"
     [[ $status -eq 0 ]] || grep -q '^FAIL ' "$work/tool.txt" || fail "$name: exit $status"
 }
+# A run stopped by SIGTERM / SIGINT keeps its completed stages, bit for bit (issue 18).
+tool_checks "stop" python3 tools/check_stop.py --cfrd "$cfrd" --workdir "$work/stop"
 # The independent peer: CalculiX checked on a closed form, then on the same embankment.
 # The shared layer of the tools (tools/cfrdtools): deck fields, results reading, the runner.
 tool_checks "cfrdtools" env PYTHONPATH=tools python3 -m cfrdtools.selftest

@@ -30,6 +30,7 @@ module cfrd_stage_driver
     use cfrd_contact_results, only: record_contact
     use cfrd_creep_step, only: creep_strains, ncreep
     use cfrd_sparse, only: assemble_element
+    use cfrd_signals, only: stop_signal, stop_error
     implicit none
     private
 
@@ -339,6 +340,11 @@ contains
         cuts = 0
         k = 0
         do while (done < 1.0_dp - 1.0e-12_dp)
+            ! SIGINT / SIGTERM: stop before the next increment (cfrd_signals).
+            if (stop_signal() /= 0) then
+                call stop_error(error, 'in stage '//to_text(s)//' ('//label//')')
+                return
+            end if
             step = min(step, 1.0_dp - done)
             k = k + 1
             context = 'stage '//to_text(s)//' ('//label//'), increment '//to_text(k)// &

@@ -16,6 +16,9 @@ module cfrd_cards
     public :: read_deck_lines, classify_line, field_text, get_int, get_real, get_text
     public :: field_error, card_error, line_error, upper, is_comment, is_real, to_text
 
+    !> The UTF-8 byte-order mark, skipped at the start of a deck.
+    character(len=*), parameter :: utf8_bom = achar(239)//achar(187)//achar(191)
+
     !> Width of a fixed-format card.
     integer, parameter :: card_columns = 80
     !> The columns of the EFFECTS card (eight switches after its keyword).
@@ -99,7 +102,7 @@ contains
         n = 0
         first_byte = 1
         if (len(raw) >= 3) then
-            if (raw(1:3) == achar(239)//achar(187)//achar(191)) first_byte = 4
+            if (raw(1:3) == utf8_bom) first_byte = 4
         end if
         do i = first_byte, len(raw)
             if (raw(i:i) == achar(13)) cycle

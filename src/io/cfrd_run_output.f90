@@ -7,9 +7,11 @@
 !> keep_incomplete closes the HDF5 file with `complete` = 0 and the reason, and renames it
 !> DECK.incomplete.h5 (with DECK.incomplete.xmf); after a failed write discard_output
 !> removes the temporary files. Either way the results of an earlier run are untouched.
+!> result_stem names a deck's result files; check_result_names refuses, before any run, a
+!> list of decks two of which would write the same files.
 module cfrd_run_output
     use cfrd_kinds, only: dp
-    use cfrd_error, only: error_t
+    use cfrd_error, only: error_t, fatal_error, usage_error
     use cfrd_clock, only: wall_seconds
     use cfrd_model, only: model_t
     use cfrd_results, only: stage_result_t
@@ -22,12 +24,12 @@ module cfrd_run_output
                                  has_slab, has_contact, has_openings
     use cfrd_legacy_listing, only: open_legacy_listing, append_legacy_stage, &
                                    close_legacy_listing
-    use cfrd_files, only: move_file, delete_file, base_name
+    use cfrd_files, only: move_file, delete_file, base_name, strip_extension, resolved_path
     implicit none
     private
 
     public :: run_output_t, begin_output, add_stage, finish_output, keep_incomplete
-    public :: discard_output
+    public :: discard_output, result_stem, check_result_names
 
     !> Suffix of the files being written; of the results file a failed run leaves.
     character(len=*), parameter :: part = '.part', incomplete = '.incomplete'
@@ -50,6 +52,54 @@ module cfrd_run_output
     end type run_output_t
 
 contains
+
+    !> The results of `deck` go to STEM.out, STEM.h5, ...: the deck's path without its
+    !> extension, or its name without extension in `out_dir` (cfrd --out).
+    function result_stem(deck, out_dir) result(stem)
+        character(len=*), intent(in) :: deck
+        character(len=*), intent(in), optional :: out_dir
+        character(len=:), allocatable :: stem
+        if (present(out_dir)) then
+            stem = out_dir//'/'//strip_extension(base_name(deck))
+        else
+            stem = strip_extension(deck)
+        end if
+    end function result_stem
+
+    !> A usage error naming both decks when two of `decks` would write the same result
+    !> files (the second would overwrite the first): the same name into one --out folder,
+    !> or, beside the decks, the same folder (however spelt) and name (a.dat, a.txt, a).
+    subroutine check_result_names(decks, error, out_dir)
+        character(len=*), intent(in) :: decks(:)
+        type(error_t), allocatable, intent(out) :: error
+        character(len=*), intent(in), optional :: out_dir
+        character(len=4096) :: keys(size(decks))
+        character(len=:), allocatable :: deck
+        integer :: i, j, slash
+        do i = 1, size(decks)
+            deck = trim(decks(i))
+            if (present(out_dir)) then
+                keys(i) = strip_extension(base_name(deck))
+            else
+                slash = index(deck, '/', back=.true.)
+                if (slash == 0) then
+                    keys(i) = resolved_path('.')//'/'//strip_extension(deck)
+                else
+                    keys(i) = resolved_path(deck(:max(slash - 1, 1)))//'/'// &
+                              strip_extension(base_name(deck))
+                end if
+            end if
+            do j = 1, i - 1
+                if (keys(j) /= keys(i)) cycle
+                call fatal_error(error, trim(decks(j))//' and '//deck// &
+                                 ' would both write '//result_stem(deck, out_dir)// &
+                                 '.h5 (and .out, .xmf): the second would overwrite '// &
+                                 'the first; run them into different --out folders', &
+                                 usage_error)
+                return
+            end do
+        end do
+    end subroutine check_result_names
 
     !> Open the temporary files of a run of `model` whose results go to `stem`.* .
     subroutine begin_output(out, stem, model, error, legacy_listing)
