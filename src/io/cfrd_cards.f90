@@ -13,6 +13,7 @@ module cfrd_cards
 
     public :: card_t, field_t, deck_lines_t
     public :: int_field, real_field, text_field, card_columns
+    public :: found_text, found_value, found_blank, found_upper, default_pa
     public :: read_deck_lines, classify_line, field_text, get_int, get_real, get_text
     public :: field_error, card_error, line_error, upper, is_comment, is_real, to_text
 
@@ -29,12 +30,35 @@ module cfrd_cards
     !> Power of ten that no real field may reach (docs/cards.md).
     integer, parameter :: max_magnitude = 20
 
-    !> One field of a card layout: name, first column, width, kind.
+    !> What a failed check of a field quotes after "found": the field's text, the integer
+    !> read, the text or '(blank)', the text in upper case.
+    integer, parameter :: found_text = 1, found_value = 2, found_blank = 3, found_upper = 4
+
+    !> `default_from` of a field whose blank takes a multiple of the atmospheric pressure PA.
+    integer, parameter :: default_pa = -1
+
+    !> One field of a card layout: name, first column, width, kind, and what the card schema
+    !> (cfrd_card_schema) checks of it; the defaults check nothing.
     type :: field_t
         character(len=10) :: name = ''
         integer :: first = 1
         integer :: width = 0
         integer :: kind = int_field
+        !> The value of a blank field (a whole number for an integer field), or, with
+        !> `default_from` k > 0, field k's value times `default_scale` (default_pa: PA's).
+        real(dp) :: default = 0.0_dp
+        integer :: default_from = 0
+        real(dp) :: default_scale = 1.0_dp
+        logical :: required = .false.   !! blank is an error (found '')
+        !> Limits of a number: lo <= value <= hi, or < where open.
+        real(dp) :: lo = -huge(1.0_dp), hi = huge(1.0_dp)
+        logical :: lo_open = .false., hi_open = .false.
+        !> A text field with words: the words accepted (blank-separated, compared in upper
+        !> case); its value is the word's position, a blank field's `default` (0: required).
+        character(len=40) :: words = ''
+        !> The words of the message after "expected"; blank: no check.
+        character(len=100) :: expected = ''
+        integer :: found = found_text
     end type field_t
 
     !> One card: where it came from and its text; free-format cards keep their comma tokens.
