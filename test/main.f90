@@ -4,6 +4,7 @@
 program cfrd_tests
     use cfrd_testing, only: unittest_t, run_suite
     use test_io_deck, only: collect_io_deck
+    use test_io_card_schema, only: collect_io_card_schema
     use test_solver_sparse, only: collect_solver_sparse
     use test_elements_quad4, only: collect_elements_quad4
     use test_analysis_verification, only: collect_analysis_verification
@@ -31,6 +32,10 @@ program cfrd_tests
     if (wanted('io_deck')) then
         call collect_io_deck(tests)
         call run_suite('io_deck', tests, only_test, npass, nfail)
+    end if
+    if (wanted('io_card_schema')) then
+        call collect_io_card_schema(tests)
+        call run_suite('io_card_schema', tests, only_test, npass, nfail)
     end if
     if (wanted('solver_sparse')) then
         call collect_solver_sparse(tests)
