@@ -34,22 +34,21 @@ contains
     end function creep_parameters
 
     !> Advance the creep of the active creeping elements by dt days: `creep` (ncreep,
-    !> ngauss, nelem) grows; d_creep (4, ngauss, nelem) is the step's creep strain (zero
-    !> elsewhere) and creep_stress the stresses it would relax, D d_creep with the law's
-    !> tangent at the start stress and history.
+    !> ngauss, nelem) grows; creep_stress (4, ngauss, nelem) gets the stresses the step's
+    !> creep strain would relax, D d_eps_c with the law's tangent at the start stress and
+    !> history (zero where nothing creeps).
     subroutine creep_strains(model, library, active, dt, stress, strain, history, creep, &
-                             d_creep, creep_stress)
+                             creep_stress)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         logical, intent(in) :: active(:)
         real(dp), intent(in) :: dt
         real(dp), intent(in) :: stress(:, :, :), strain(:, :, :), history(:, :, :)
         real(dp), intent(inout) :: creep(:, :, :)
-        real(dp), intent(out) :: d_creep(:, :, :), creep_stress(:, :, :)
-        real(dp) :: d(4, 4)
+        real(dp), intent(out) :: creep_stress(:, :, :)
+        real(dp) :: d(4, 4), d_creep(4)
         type(eb_state_t) :: law_state
         integer :: e, ig
-        d_creep = 0.0_dp
         creep_stress = 0.0_dp
         do e = 1, model%mesh%nelem
             if (.not. active(e)) cycle
@@ -65,10 +64,10 @@ contains
                     call creep_strain_increment(creep_parameters(mat, model%pa), &
                                                 stress(:, ig, e), law_state%sigma3, &
                                                 law_state%level, dt, creep(1, ig, e), &
-                                                creep(2, ig, e), d_creep(:, ig, e), &
+                                                creep(2, ig, e), d_creep, &
                                                 bulk=(d(1, 1) + 2.0_dp*d(1, 2))/3.0_dp, &
                                                 shear=d(4, 4))
-                    creep_stress(:, ig, e) = matmul(d, d_creep(:, ig, e))
+                    creep_stress(:, ig, e) = matmul(d, d_creep)
                 end do
             end associate
         end do

@@ -63,9 +63,9 @@ module cfrd_stage_driver
         real(dp) :: level = dry_level                !! reservoir level, m
         !> (ncreep, ngauss, nelem) creep strains reached (only when some material creeps)
         real(dp), allocatable :: creep(:, :, :)
-        !> (4, ngauss, nelem) the creep strain of the increment being solved, and D times it
-        !> (the load it puts on the increment); zero outside creeping increments
-        real(dp), allocatable :: creep_step(:, :, :), creep_stress(:, :, :)
+        !> (4, ngauss, nelem) D times the creep strain of the increment being solved (the load
+        !> it puts on the increment); zero outside creeping increments
+        real(dp), allocatable :: creep_stress(:, :, :)
         real(dp) :: day = no_date                    !! the date reached, day number
         logical :: has_contact = .false.             !! the deck has CONTACT pairs
         type(contact_t) :: contact                   !! their state (docs/theory.md s. 14)
@@ -166,7 +166,6 @@ contains
             allocate (state%history(nhistory, ngauss, mesh%nelem), source=0.0_dp)
             if (has_creep(model)) then
                 allocate (state%creep(ncreep, ngauss, mesh%nelem), source=0.0_dp)
-                allocate (state%creep_step(4, ngauss, mesh%nelem), source=0.0_dp)
                 allocate (state%creep_stress(4, ngauss, mesh%nelem), source=0.0_dp)
             end if
         end associate
@@ -360,7 +359,7 @@ contains
                 creep_before = state%creep
                 call creep_strains(model, library, state%active, dt*step, state%stress, &
                                    state%strain, state%history, state%creep, &
-                                   state%creep_step, state%creep_stress)
+                                   state%creep_stress)
             end if
             call solve_increment(model, library, state, system, &
                                  f_start + f_water + stage_force*(done + step), &
@@ -368,7 +367,6 @@ contains
             if (creeps) then
                 ! the step's creep is spent (or, after no convergence, undone)
                 if (allocated(error)) state%creep = creep_before
-                state%creep_step = 0.0_dp
                 state%creep_stress = 0.0_dp
             end if
             if (allocated(error)) then
