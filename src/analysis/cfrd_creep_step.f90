@@ -12,11 +12,11 @@ module cfrd_creep_step
     use cfrd_assembly, only: element_box_t
     use cfrd_duncan_eb, only: eb_tangent, eb_state_t
     use cfrd_material_law, only: eb_parameters, material_tangent
-    use cfrd_rockfill_creep, only: creep_params_t, creep_strain_increment
+    use cfrd_rockfill_creep, only: creep_params_t, creep_strain_increment, final_strain_step
     implicit none
     private
 
-    public :: creep_strains, creep_parameters
+    public :: creep_strains, creep_parameters, wetting_strains, wetting_parameters
 
     !> Creep state per Gauss point: (1) volumetric and (2) generalised shear creep strain
     !> reached, compression positive.
@@ -32,6 +32,16 @@ contains
         p = creep_params_t(alpha=mat%creep_alpha, b=mat%creep_b, mc=mat%creep_mc, &
                            d=mat%creep_d, l=mat%creep_l, pa=pa)
     end function creep_parameters
+
+    !> The wetting parameters of a material card in the form of the creep law's final
+    !> strains (b = CW, mc = NW, d = DW, l = 1: Shen's wetting model, docs/theory.md s. 16).
+    pure function wetting_parameters(mat, pa) result(p)
+        type(material_t), intent(in) :: mat
+        real(dp), intent(in) :: pa
+        type(creep_params_t) :: p
+        p = creep_params_t(alpha=0.0_dp, b=mat%wet_c, mc=mat%wet_n, d=mat%wet_d, &
+                           l=1.0_dp, pa=pa)
+    end function wetting_parameters
 
     !> Advance the creep of the active creeping elements by dt days: `creep` (ncreep,
     !> ngauss, nelem) grows; creep_stress (4, ngauss, nelem) gets the stresses the step's
@@ -72,4 +82,40 @@ contains
             end associate
         end do
     end subroutine creep_strains
+
+    !> The wetting collapse of the elements of `wetting` (a WET stage) over one increment:
+    !> the share `share` of what remains of their wetting strains (final values at the
+    !> start stress less the strain reached, `wet`) is taken, and its relaxed stresses
+    !> D d_eps_w are added to creep_stress (the load of the increment, as for creep).
+    subroutine wetting_strains(model, library, wetting, share, stress, strain, history, wet, &
+                               creep_stress)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        logical, intent(in) :: wetting(:)
+        real(dp), intent(in) :: share
+        real(dp), intent(in) :: stress(:, :, :), strain(:, :, :), history(:, :, :)
+        real(dp), intent(inout) :: wet(:, :, :)
+        real(dp), intent(inout) :: creep_stress(:, :, :)
+        real(dp) :: d(4, 4), d_wet(4)
+        type(eb_state_t) :: law_state
+        integer :: e, ig
+        do e = 1, model%mesh%nelem
+            if (.not. wetting(e)) cycle
+            associate (mat => model%materials(model%mesh%material(e)))
+                if (.not. mat%wetting) cycle
+                do ig = 1, library(model%mesh%kind(e))%element%gauss_points()
+                    call eb_tangent(eb_parameters(mat, model%pa), stress(:, ig, e), &
+                                    history(1, ig, e), d, law_state)
+                    call material_tangent(mat, model%pa, stress(:, ig, e), strain(:, ig, e), &
+                                          history(:, ig, e), d)
+                    call final_strain_step(wetting_parameters(mat, model%pa), stress(:, ig, e), &
+                                           law_state%sigma3, law_state%level, share, &
+                                           wet(1, ig, e), wet(2, ig, e), d_wet, &
+                                           bulk=(d(1, 1) + 2.0_dp*d(1, 2))/3.0_dp, &
+                                           shear=d(4, 4))
+                    creep_stress(:, ig, e) = creep_stress(:, ig, e) + matmul(d, d_wet)
+                end do
+            end associate
+        end do
+    end subroutine wetting_strains
 end module cfrd_creep_step

@@ -14,7 +14,8 @@ module cfrd_deck
                           elem_joint_lobatto, is_joint_kind, &
                           interface_element_t, method_joint, method_thin, all_groups, &
                           contact_surface_t, contact_pair_t, scheme_mortar, scheme_nts, &
-                          search_linear, search_rpim, effects_t, has_creep
+                          search_linear, search_rpim, effects_t, has_creep, &
+                          has_wetting, stage_wet
     use cfrd_effects, only: apply_effects
     use cfrd_model_check, only: element_shape, first_unused_node, free_rigid_mode, &
                                 shape_ok, shape_degenerate, unplaced_load, layer_thickness
@@ -22,7 +23,8 @@ module cfrd_deck
                           read_deck_lines, classify_line, get_int, get_real, get_text, &
                           field_error, card_error, upper, is_comment, is_real, to_text
     use cfrd_strings, only: level_text
-    use cfrd_deck_time, only: is_creep_card, read_creep_card, date_reader_t
+    use cfrd_deck_time, only: is_creep_card, read_creep_card, date_reader_t, &
+                              is_wetting_card, read_wetting_card
     implicit none
     private
 
@@ -45,14 +47,17 @@ module cfrd_deck
                                                      .false.]
     character(len=10), parameter :: load_keywords(3) = [character(len=10) :: 'GRAVITY', &
                                                         'FORCE', 'PRESSURE']
-    character(len=10), parameter :: stage_keywords(5) = [character(len=10) :: 'FILL', &
-                                                         'LOAD', 'RESET', 'WATER', 'WAIT']
+    character(len=10), parameter :: stage_keywords(6) = [character(len=10) :: 'FILL', &
+                                                         'LOAD', 'RESET', 'WATER', 'WAIT', &
+                                                         'WET']
     character(len=10), parameter :: contact_keywords(2) = [character(len=10) :: 'SURFACE', &
                                                            'PAIR']
     !> The card of CONTROL that lists the effects a deck asks for.
     character(len=*), parameter :: effects_keyword = 'EFFECTS'
     !> The card of MATERIALS that gives an EB material its creep (after its two cards).
     character(len=*), parameter :: creep_keyword = 'CREEP'
+    !> ... and its wetting collapse (WETTING, after the two cards or the CREEP card).
+    character(len=*), parameter :: wetting_keyword = 'WETTING'
     !> At most this many named LOADS groups (load sets).
     integer, parameter :: max_load_sets = 1000
 
@@ -370,7 +375,8 @@ contains
                 end if
                 if (.not. ((current < 0 .and. any(load_keywords == word)) .or. &
                            (current == g_control .and. word == effects_keyword) .or. &
-                           (current == g_materials .and. word == creep_keyword) .or. &
+                           (current == g_materials .and. (word == creep_keyword .or. &
+                                                          word == wetting_keyword)) .or. &
                            (current == g_stages .and. any(stage_keywords == word)) .or. &
                            (current == g_contact .and. any(contact_keywords == word)))) then
                     if (current < 0) then
@@ -378,7 +384,7 @@ contains
                                         "' in LOADS: expected GRAVITY, FORCE or PRESSURE")
                     else if (current == g_stages) then
                         call card_error(error, lines%file, card, "unknown stage '"//word// &
-                                        "' in STAGES: expected FILL, LOAD, RESET, WATER or WAIT")
+                                        "' in STAGES: expected FILL, LOAD, RESET, WATER, WAIT or WET")
                     else if (current == g_contact) then
                         call card_error(error, lines%file, card, "unknown card '"//word// &
                                         "' in CONTACT: expected SURFACE or PAIR")
@@ -448,7 +454,8 @@ contains
         if (card%text(1:1) == ' ' .and. .not. (word == 'END' .or. word == 'STOP' .or. &
             any(group_keywords == word) .or. any(load_keywords == word) .or. &
             any(stage_keywords == word) .or. any(contact_keywords == word) .or. &
-            word == effects_keyword .or. word == creep_keyword)) word = ''
+            word == effects_keyword .or. word == creep_keyword .or. &
+            word == wetting_keyword)) word = ''
     end function leading_word
 
     subroutine append_card(group, card)
@@ -652,13 +659,19 @@ contains
         limit = merge(counts%nmat, group%n, counts%nmat > 0)
         do while (i <= group%n)
             associate (card => group%cards(i))
-                if (is_creep_card(card)) then
-                    ctx = 'a CREEP card follows the two parameter cards of an EB material'
+                if (is_creep_card(card) .or. is_wetting_card(card)) then
+                    law = trim(merge('CREEP  ', 'WETTING', is_creep_card(card)))
+                    ctx = 'a '//law//' card follows the two parameter cards of an EB material'
+                    if (law == 'WETTING') ctx = ctx//' or its CREEP card'
                     if (n > 0) then
-                        if (mats(n)%law == law_duncan_eb) then
+                        if (mats(n)%law /= law_duncan_eb) then
+                            ctx = ctx//' (MATERIALS '//to_text(number(n))//' is not EB)'
+                        else if ((law == 'CREEP' .and. mats(n)%creep) .or. &
+                                 (law == 'WETTING' .and. mats(n)%wetting)) then
                             ctx = ctx//' (MATERIALS '//to_text(number(n))//' has one already)'
                         else
-                            ctx = ctx//' (MATERIALS '//to_text(number(n))//' is not EB)'
+                            ctx = ctx//' (MATERIALS '//to_text(number(n))//': CREEP '// &
+                                  'before WETTING)'
                         end if
                     end if
                     call card_error(error, file, card, ctx)
@@ -701,6 +714,13 @@ contains
                 if (i <= group%n) then
                     if (is_creep_card(group%cards(i))) then
                         call read_creep_card(file, group%cards(i), m, mats(n), error)
+                        if (allocated(error)) return
+                        i = i + 1
+                    end if
+                end if
+                if (i <= group%n) then
+                    if (is_wetting_card(group%cards(i))) then
+                        call read_wetting_card(file, group%cards(i), m, mats(n), error)
                         if (allocated(error)) return
                         i = i + 1
                     end if
@@ -1760,9 +1780,21 @@ contains
                         return
                     end if
                     stage%label = 'WATER '//level_text(stage%level)//stage%label(6:)
+                case ('WET')
+                    stage%kind = stage_wet
+                    if (.not. has_wetting(model)) then
+                        call card_error(error, file, card, 'WET stage, but no material '// &
+                                        'has a WETTING card (nothing would collapse)')
+                        return
+                    end if
+                    ! blank: every element; else those whose centroid lies below LEVEL
+                    call get_real(file, card, water_stage_fields, 2, ctx, huge(1.0_dp), &
+                                  stage%level, error, given)
+                    if (allocated(error)) return
+                    if (given) stage%label = 'WET '//level_text(stage%level)//stage%label(4:)
                 case default
                     call card_error(error, file, card, "unknown stage '"//keyword// &
-                                    "' in STAGES: expected FILL, LOAD, RESET, WATER or WAIT")
+                                    "' in STAGES: expected FILL, LOAD, RESET, WATER, WAIT or WET")
                     return
                 end select
                 call get_int(file, card, stage_fields, 3, ctx, 1, stage%increments, error)

@@ -1,5 +1,5 @@
-!> The cards of time-dependent analysis (docs/cards.md): the CREEP card that may follow an
-!> EB material's two parameter cards, and the stage dates read as day numbers (checked to
+!> The cards of the rockfill's delayed deformation (docs/cards.md): the CREEP and WETTING
+!> cards that may follow an EB material's two parameter cards, and the stage dates read as day numbers (checked to
 !> go forwards). Every problem is a field error naming file, line, columns and field.
 module cfrd_deck_time
     use cfrd_kinds, only: dp
@@ -12,6 +12,7 @@ module cfrd_deck_time
     private
 
     public :: is_creep_card, read_creep_card, date_reader_t
+    public :: is_wetting_card, read_wetting_card
 
     type(field_t), parameter :: creep_fields(6) = [ &
                                 field_t('KEYWORD', 1, 10, text_field), &
@@ -20,6 +21,12 @@ module cfrd_deck_time
                                 field_t('MC', 31, 10, real_field), &
                                 field_t('D', 41, 10, real_field), &
                                 field_t('L', 51, 10, real_field)]
+
+    type(field_t), parameter :: wetting_fields(4) = [ &
+                                  field_t('KEYWORD', 1, 10, text_field), &
+                                  field_t('CW', 11, 10, real_field), &
+                                  field_t('NW', 21, 10, real_field), &
+                                  field_t('DW', 31, 10, real_field)]
 
     !> Bounds of the creep parameters: values beyond them are mistyped fields (published
     !> laboratory and back-analysed values lie well inside, docs/theory.md section 15).
@@ -55,36 +62,72 @@ contains
         type(error_t), allocatable, intent(out) :: error
         character(len=:), allocatable :: ctx
         ctx = 'MATERIALS '//to_text(m)//' CREEP'
-        call bounded(2, .false., alpha_max, 'a real with 0 < ALPHA <= 1 (1/day)', &
-                     mat%creep_alpha)
+        call bounded(file, card, creep_fields, 2, ctx, .false., alpha_max, &
+                     'a real with 0 < ALPHA <= 1 (1/day)', mat%creep_alpha, error)
         if (allocated(error)) return
-        call bounded(3, .true., strain_max, 'a real with 0 <= B <= 0.05', mat%creep_b)
+        call bounded(file, card, creep_fields, 3, ctx, .true., strain_max, &
+                     'a real with 0 <= B <= 0.05', mat%creep_b, error)
         if (allocated(error)) return
-        call bounded(4, .false., exponent_max, 'a real with 0 < MC <= 3', mat%creep_mc)
+        call bounded(file, card, creep_fields, 4, ctx, .false., exponent_max, &
+                     'a real with 0 < MC <= 3', mat%creep_mc, error)
         if (allocated(error)) return
-        call bounded(5, .true., strain_max, 'a real with 0 <= D <= 0.05', mat%creep_d)
+        call bounded(file, card, creep_fields, 5, ctx, .true., strain_max, &
+                     'a real with 0 <= D <= 0.05', mat%creep_d, error)
         if (allocated(error)) return
-        call bounded(6, .false., exponent_max, 'a real with 0 < L <= 3', mat%creep_l)
+        call bounded(file, card, creep_fields, 6, ctx, .false., exponent_max, &
+                     'a real with 0 < L <= 3', mat%creep_l, error)
         if (allocated(error)) return
         mat%creep = .true.
-    contains
-        !> Field k, required, in (0, hi] or with `zero_ok` in [0, hi].
-        subroutine bounded(k, zero_ok, hi, expected, value)
-            integer, intent(in) :: k
-            logical, intent(in) :: zero_ok
-            real(dp), intent(in) :: hi
-            character(len=*), intent(in) :: expected
-            real(dp), intent(out) :: value
-            character(len=:), allocatable :: text
-            logical :: given, inside
-            call get_real(file, card, creep_fields, k, ctx, 0.0_dp, value, error, given)
-            if (allocated(error)) return
-            inside = value <= hi .and. (value > 0.0_dp .or. (zero_ok .and. value == 0.0_dp))
-            if (given .and. inside) return
-            call get_text(card, creep_fields, k, text)
-            call field_error(error, file, card, creep_fields, k, ctx, expected, text)
-        end subroutine bounded
     end subroutine read_creep_card
+
+    !> A card whose columns 1-10 hold the keyword WETTING.
+    logical function is_wetting_card(card)
+        type(card_t), intent(in) :: card
+        character(len=:), allocatable :: keyword
+        call get_text(card, wetting_fields, 1, keyword)
+        is_wetting_card = upper(keyword) == 'WETTING'
+    end function is_wetting_card
+
+    !> The WETTING card of EB material m: CW, NW, DW, each required (docs/theory.md s. 16).
+    subroutine read_wetting_card(file, card, m, mat, error)
+        character(len=*), intent(in) :: file
+        type(card_t), intent(in) :: card
+        integer, intent(in) :: m
+        type(material_t), intent(inout) :: mat
+        type(error_t), allocatable, intent(out) :: error
+        character(len=:), allocatable :: ctx
+        ctx = 'MATERIALS '//to_text(m)//' WETTING'
+        call bounded(file, card, wetting_fields, 2, ctx, .true., strain_max, &
+                     'a real with 0 <= CW <= 0.05', mat%wet_c, error)
+        if (allocated(error)) return
+        call bounded(file, card, wetting_fields, 3, ctx, .false., exponent_max, &
+                     'a real with 0 < NW <= 3', mat%wet_n, error)
+        if (allocated(error)) return
+        call bounded(file, card, wetting_fields, 4, ctx, .true., strain_max, &
+                     'a real with 0 <= DW <= 0.05', mat%wet_d, error)
+        if (allocated(error)) return
+        mat%wetting = .true.
+    end subroutine read_wetting_card
+
+    !> Field k of `fields`, required, in (0, hi] or with `zero_ok` in [0, hi].
+    subroutine bounded(file, card, fields, k, ctx, zero_ok, hi, expected, value, error)
+        character(len=*), intent(in) :: file, ctx, expected
+        type(card_t), intent(in) :: card
+        type(field_t), intent(in) :: fields(:)
+        integer, intent(in) :: k
+        logical, intent(in) :: zero_ok
+        real(dp), intent(in) :: hi
+        real(dp), intent(out) :: value
+        type(error_t), allocatable, intent(out) :: error
+        character(len=:), allocatable :: text
+        logical :: given, inside
+        call get_real(file, card, fields, k, ctx, 0.0_dp, value, error, given)
+        if (allocated(error)) return
+        inside = value <= hi .and. (value > 0.0_dp .or. (zero_ok .and. value == 0.0_dp))
+        if (given .and. inside) return
+        call get_text(card, fields, k, text)
+        call field_error(error, file, card, fields, k, ctx, expected, text)
+    end subroutine bounded
 
     !> The date of a stage card (field k of `fields`, text `date`) as a day number in
     !> `day`: no_date when blank, or when free text is allowed (`required_form` false) and
