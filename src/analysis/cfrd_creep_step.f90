@@ -56,31 +56,9 @@ contains
         real(dp), intent(in) :: stress(:, :, :), strain(:, :, :), history(:, :, :)
         real(dp), intent(inout) :: creep(:, :, :)
         real(dp), intent(out) :: creep_stress(:, :, :)
-        real(dp) :: d(4, 4), d_creep(4)
-        type(eb_state_t) :: law_state
-        integer :: e, ig
         creep_stress = 0.0_dp
-        do e = 1, model%mesh%nelem
-            if (.not. active(e)) cycle
-            associate (mat => model%materials(model%mesh%material(e)))
-                if (.not. mat%creep) cycle
-                do ig = 1, library(model%mesh%kind(e))%element%gauss_points()
-                    ! sigma3 and the stress level of the E-B law at this point
-                    call eb_tangent(eb_parameters(mat, model%pa), stress(:, ig, e), &
-                                    history(1, ig, e), d, law_state)
-                    ! the tangent that relaxes the stresses: bulk and shear moduli
-                    call material_tangent(mat, model%pa, stress(:, ig, e), strain(:, ig, e), &
-                                          history(:, ig, e), d)
-                    call creep_strain_increment(creep_parameters(mat, model%pa), &
-                                                stress(:, ig, e), law_state%sigma3, &
-                                                law_state%level, dt, creep(1, ig, e), &
-                                                creep(2, ig, e), d_creep, &
-                                                bulk=(d(1, 1) + 2.0_dp*d(1, 2))/3.0_dp, &
-                                                shear=d(4, 4))
-                    creep_stress(:, ig, e) = matmul(d, d_creep)
-                end do
-            end associate
-        end do
+        call relaxed_stresses(model, library, active, .false., dt, stress, strain, history, &
+                              creep, creep_stress)
     end subroutine creep_strains
 
     !> The wetting collapse of the elements of `wetting` (a WET stage) over one increment:
@@ -96,26 +74,54 @@ contains
         real(dp), intent(in) :: stress(:, :, :), strain(:, :, :), history(:, :, :)
         real(dp), intent(inout) :: wet(:, :, :)
         real(dp), intent(inout) :: creep_stress(:, :, :)
-        real(dp) :: d(4, 4), d_wet(4)
+        call relaxed_stresses(model, library, wetting, .true., share, stress, strain, &
+                              history, wet, creep_stress)
+    end subroutine wetting_strains
+
+    !> At every point of the elements of `mask` whose material creeps (or, with `wetting`,
+    !> collapses on wetting): the step of the law from the strains `reached` (dt days of
+    !> creep, or the share `amount` of the wetting that remains), and D times its strain
+    !> added to creep_stress, D the law's tangent at the start stress and history.
+    subroutine relaxed_stresses(model, library, mask, wetting, amount, stress, strain, &
+                                history, reached, creep_stress)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        logical, intent(in) :: mask(:), wetting
+        real(dp), intent(in) :: amount
+        real(dp), intent(in) :: stress(:, :, :), strain(:, :, :), history(:, :, :)
+        real(dp), intent(inout) :: reached(:, :, :)
+        real(dp), intent(inout) :: creep_stress(:, :, :)
+        real(dp) :: d(4, 4), d_strain(4), bulk, shear
         type(eb_state_t) :: law_state
         integer :: e, ig
         do e = 1, model%mesh%nelem
-            if (.not. wetting(e)) cycle
+            if (.not. mask(e)) cycle
             associate (mat => model%materials(model%mesh%material(e)))
-                if (.not. mat%wetting) cycle
+                if (.not. merge(mat%wetting, mat%creep, wetting)) cycle
                 do ig = 1, library(model%mesh%kind(e))%element%gauss_points()
+                    ! sigma3 and the stress level of the E-B law at this point
                     call eb_tangent(eb_parameters(mat, model%pa), stress(:, ig, e), &
                                     history(1, ig, e), d, law_state)
+                    ! the tangent that relaxes the stresses: bulk and shear moduli
                     call material_tangent(mat, model%pa, stress(:, ig, e), strain(:, ig, e), &
                                           history(:, ig, e), d)
-                    call final_strain_step(wetting_parameters(mat, model%pa), stress(:, ig, e), &
-                                           law_state%sigma3, law_state%level, share, &
-                                           wet(1, ig, e), wet(2, ig, e), d_wet, &
-                                           bulk=(d(1, 1) + 2.0_dp*d(1, 2))/3.0_dp, &
-                                           shear=d(4, 4))
-                    creep_stress(:, ig, e) = creep_stress(:, ig, e) + matmul(d, d_wet)
+                    bulk = (d(1, 1) + 2.0_dp*d(1, 2))/3.0_dp
+                    shear = d(4, 4)
+                    if (wetting) then
+                        call final_strain_step(wetting_parameters(mat, model%pa), &
+                                               stress(:, ig, e), law_state%sigma3, &
+                                               law_state%level, amount, reached(1, ig, e), &
+                                               reached(2, ig, e), d_strain, bulk, shear)
+                    else
+                        call creep_strain_increment(creep_parameters(mat, model%pa), &
+                                                    stress(:, ig, e), law_state%sigma3, &
+                                                    law_state%level, amount, &
+                                                    reached(1, ig, e), reached(2, ig, e), &
+                                                    d_strain, bulk, shear)
+                    end if
+                    creep_stress(:, ig, e) = creep_stress(:, ig, e) + matmul(d, d_strain)
                 end do
             end associate
         end do
-    end subroutine wetting_strains
+    end subroutine relaxed_stresses
 end module cfrd_creep_step
