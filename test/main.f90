@@ -17,6 +17,7 @@ program cfrd_tests
     use test_analysis_interface, only: collect_analysis_interface
     use test_contact_mortar, only: collect_contact_mortar
     use test_contact_hertz, only: collect_contact_hertz
+    use test_analysis_increment, only: collect_analysis_increment
     implicit none
     character(len=64) :: only_suite, only_test
     type(unittest_t), allocatable :: tests(:)
@@ -80,6 +81,10 @@ program cfrd_tests
     if (wanted('contact_hertz')) then
         call collect_contact_hertz(tests)
         call run_suite('contact_hertz', tests, only_test, npass, nfail)
+    end if
+    if (wanted('analysis_increment')) then
+        call collect_analysis_increment(tests)
+        call run_suite('analysis_increment', tests, only_test, npass, nfail)
     end if
     if (wanted('io_results')) then
         call collect_io_results(tests)

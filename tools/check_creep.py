@@ -12,7 +12,11 @@ a reference computed here without cfrd code:
                scipy's integration of the same ODE, and the observed order of the error;
   column       a column of five layers placed a month apart, then two years: the settlement
                of the top of the first layer and of the column's top at every stage against
-               scipy's integration of the law on each layer (1 %).
+               scipy's integration of the law on each layer (1 %);
+  wetting      the same triaxial element wetted (WETTING card, WET stage in 4 increments):
+               axial strain CW (s3/pa)^NW / 3 + DW S/(1-S), volumetric CW (s3/pa)^NW (0.5 %);
+  wet-level    a held column of two layers wetted below the level between them: the upper
+               layer's stresses and strains do not change (1e-9 of the collapse).
 
   python3 tools/check_creep.py --cfrd bin/cfrd --workdir build/creep   (PASS/FAIL lines)
 """
@@ -35,6 +39,8 @@ LEVEL_CAP = 0.99
 EB = dict(k=564.0, n=0.35, rf=0.85, kb=204.0, m=0.18, phi0=51.0, dphi=13.0)
 # Test parameters of the creep law (not a dam's): alpha 1/day, b, mc, d, l
 CREEP = dict(alpha=0.01, b=0.003, mc=0.5, d=0.005, l=0.8)
+# Test parameters of the wetting model (not a dam's): CW, NW, DW
+WETTING = dict(cw=0.003, nw=0.6, dw=0.004)
 FLOOR = 0.1 * PA
 
 
@@ -372,6 +378,84 @@ def check_contact(cfrd, workdir, tol=5e-3):
     return ok
 
 
+def wetting_strains(sigma3, lev):
+    """Shen's wetting model (docs/theory.md section 16): volumetric and shear collapse."""
+    ev = WETTING["cw"] * (max(sigma3, FLOOR) / PA) ** WETTING["nw"]
+    s = min(max(lev, 0.0), 0.99)
+    return ev, WETTING["dw"] * s / (1.0 - s)
+
+
+def wetting_card():
+    return "&WETTING, " + ", ".join(repr(WETTING[k]) for k in ("cw", "nw", "dw"))
+
+
+def check_wetting(cfrd, workdir, tol=5e-3):
+    """The triaxial element of check_closed_form wetted instead of creeping."""
+    cell, dev = 400.0, 600.0
+    cards = eb_cards(0.0)[:2] + [wetting_card()]
+    deck = "\n".join([
+        "TITLE     one axisymmetric element: triaxial wetting",
+        "CONTROL", "&4, 1, 1, 2",
+        "NODES", "&1, 2, 1, 0.0, 0.0, 1.0, 0.0", "&3, 4, 1, 1.0, 1.0, 0.0, 1.0",
+        "ELEMENTS", "&1, 1, 2, 3, 4, 1",
+        "MATERIALS", "&1, EB, test rockfill"] + cards + [
+        "BOUNDARY", "&1, , , 1, 1", "&2, , , 0, 1", "&4, , , 1, 0",
+        "LOADS", f"&PRESSURE, 1, 2, {cell!r}", f"&PRESSURE, 1, 3, {cell!r}",
+        "LOADS     SHEAR", f"&PRESSURE, 1, 3, {dev!r}",
+        "STAGES",
+        "&LOAD, , 50, , cell pressure",
+        "&LOAD, SHEAR, 50, , deviator",
+        "&WET, , 4, , flooded", "END"]) + "\n"
+    with run(cfrd, os.path.join(workdir, "triaxial-wet.dat"), deck) as f:
+        st = stages(f)
+        u = st[2]["displacement_total"][...] - st[1]["displacement_total"][...]
+        stored = st[2]["wetting_gauss"][...]
+    axial, radial = -u[2, 1], -u[1, 0]
+    lev, s3 = level(-cell, -(cell + dev), 0.0)
+    evw, esw = wetting_strains(s3, lev)
+    errors = [abs(axial - (evw / 3 + esw)) / (evw / 3 + esw),
+              abs(axial + 2.0 * radial - evw) / evw,
+              float(np.max(np.abs(stored[0, :, 0] - evw))) / evw,     # (element, point,
+              float(np.max(np.abs(stored[0, :, 1] - esw))) / esw]     # component)
+    worst = max(errors)
+    ok = worst <= tol
+    print(f"{'PASS' if ok else 'FAIL'} creep/wetting: triaxial element (sigma3 {cell:g},"
+          f" q {dev:g} kPa, S {lev:.3f}) wetted in 4 increments: axial and volumetric strain"
+          f" and the stored wetting strains, max rel. error {worst:.1e} against"
+          f" CW (s3/pa)^NW = {evw:.3e}, DW S/(1-S) = {esw:.3e} (tol {tol:g})")
+    return ok
+
+
+def check_wet_level(cfrd, workdir, tol=1e-9):
+    """Two layers of a laterally held column; WET below the level between them."""
+    cards = eb_cards(20.0)[:2] + [wetting_card()]
+    deck = "\n".join([
+        "TITLE     held column of two layers, the lower one wetted",
+        "CONTROL", "&6, 2, 1, 1, , , , , 3, 1e-11",
+        "NODES", "&1, 5, 2, 0.0, 0.0, 0.0, 10.0", "&2, 6, 2, 1.0, 0.0, 1.0, 10.0",
+        "ELEMENTS", "&1, 1, 2, 4, 3, 1, , , LOWER", "&2, 3, 4, 6, 5, 1, , , UPPER",
+        "MATERIALS", "&1, EB, test rockfill"] + cards + [
+        "BOUNDARY", "&1, 6, 1, 1, 0", "&1, 2, 1, 1, 1",
+        "STAGES", "&FILL, LOWER, 10", "&FILL, UPPER, 10",
+        "&WET, 5.0, 4, , lower layer flooded", "END"]) + "\n"
+    with run(cfrd, os.path.join(workdir, "column-wet.dat"), deck) as f:
+        st = stages(f)
+        s_before, s_after = st[1]["stress_gauss"][...], st[2]["stress_gauss"][...]
+        w = st[2]["wetting_gauss"][...]
+        u = st[2]["displacement_total"][...] - st[1]["displacement_total"][...]
+    collapse = -u[2, 1]                                  # node 3, top of the lower layer
+    upper_stress = float(np.max(np.abs(s_after[1] - s_before[1])))   # (element, point, comp)
+    stretch = abs((u[4, 1] - u[2, 1]) / collapse)        # node 5 against node 3
+    ok = (collapse > 0.0 and upper_stress <= tol * float(np.max(np.abs(s_before[1])))
+          and stretch <= tol and float(np.max(np.abs(w[1]))) == 0.0
+          and float(np.min(w[0, :, 0])) > 0.0)
+    print(f"{'PASS' if ok else 'FAIL'} creep/wet-level: held column, WET below 5 m: the lower"
+          f" layer collapses {collapse * 1e3:.2f} mm; the upper layer's stresses change by"
+          f" {upper_stress:.1e} kPa, its height by {stretch:.1e} of the collapse, its wetting"
+          f" strains {float(np.max(np.abs(w[1]))):g} (tol {tol:g})")
+    return ok
+
+
 def check_off(cfrd, workdir):
     """EFFECTS CREEP OFF (and a deck without CREEP cards): the results of a deck without creep,
     bit for bit, and no creep state stored."""
@@ -401,7 +485,8 @@ def main(argv=None):
     a = ap.parse_args(argv)
     os.makedirs(a.workdir, exist_ok=True)
     ok = True
-    for check in (check_closed_form, check_order, check_column, check_contact, check_off):
+    for check in (check_closed_form, check_order, check_column, check_contact, check_off,
+                  check_wetting, check_wet_level):
         try:
             ok &= check(a.cfrd, a.workdir)
         except Exception as exc:       # a run that fails is a failed check, with its reason

@@ -16,6 +16,11 @@ Variants (each named in the table with its source tag):
   cast-early    each slab phase cast at the start of its casting period (Table 2) instead of
                 its end [paper periods, choice of the day]
   slab-q4       the slab in plain Q4 quads (which lock in bending) instead of Q4S [choice]
+  wet-*         wetting collapse (WETTING cards, WET stages; Shen's wetting model [lit],
+                parameters WETTING below [choice]): wet-reservoir wets the upstream zones
+                (IIA, IIIA) below the reservoir after each water rise, as if the face leaked
+                (an upper bound: an intact slab keeps the body dry); wet-rain wets every
+                placed zone in the rainy season (July) of each year, each element once
 The openings are the largest over the history (width m, depth m: the open zone from the
 phase's top, DECK-openings.csv); the settlement is the largest since placement at the last
 stage dated 1999-08 (displacement_total, HDF5).
@@ -102,6 +107,67 @@ def cast_early(path):
     open(path, "w").write("\n".join(lines))
 
 
+# Shen's wetting model: CW, NW, DW [choice: no wetting test of this dam's rockfill could be
+# read; strains of the size of the creep bracket's middle, docs/tianshengqiao.md s. 9]
+WETTING = (0.003, 0.5, 0.004)
+
+
+def add_wetting(path, zones, stages_after, wetting=WETTING):
+    """WETTING cards on the materials `zones` (numbers), and WET stages from
+    stages_after(stage lines) -> [(index to insert before, card)]."""
+    lines = open(path).read().split("\n")
+    card = "WETTING   " + "".join(f"{v:10.4f}" for v in wetting)
+    out = []
+    eb_left = 0
+    for line in lines:
+        out.append(line)
+        m = re.match(r"^\s*(\d+)EB\s", line)
+        if m and int(m.group(1)) in zones:
+            eb_left = 2
+        elif eb_left and not line.startswith("*"):
+            eb_left -= 1
+            if eb_left == 0:
+                out.append(card)
+    first = next(i for i, l in enumerate(out) if l.startswith("STAGES")) + 1
+    last = next(i for i, l in enumerate(out) if l.startswith("END"))
+    body = out[first:last]
+    for k, wet in sorted(stages_after(body), reverse=True):
+        body.insert(k, wet)
+    out[first:last] = body
+    open(path, "w").write("\n".join(out))
+
+
+def wet_reservoir(path):
+    """IIA and IIIA wetted below the reservoir after each WATER stage (a leaking face)."""
+    def after(body):
+        return [(i + 1, f"WET       {float(l[10:20]):10.2f}    4{l[25:35]}wetted below the"
+                        " reservoir [choice]") for i, l in enumerate(body)
+                if l.startswith("WATER")]
+    add_wetting(path, {1, 2}, after)
+
+
+def wet_rain(path, wetting=WETTING):
+    """Every zone wetted by the rains of July of each year: a WET stage before the first stage
+    dated in or after July (each element wets once, when placed before it)."""
+    def after(body):
+        out, done = [], set()
+        for i, l in enumerate(body):
+            date = l[25:35].strip()
+            if not re.match(r"^\d{4}", date) or l.startswith("*"):
+                continue
+            year, month = int(date[:4]), int(date[5:7])
+            if month >= 7 and year not in done:
+                done.add(year)
+                out.append((i, f"WET{' ' * 21}4{l[25:35]}rainy season {year} [choice]"))
+        return out
+    add_wetting(path, {1, 2, 3, 4, 5}, after, wetting)
+
+
+def wet_rain_volumetric(path):
+    """wet_rain with the volumetric collapse alone (DW = 0)."""
+    wet_rain(path, (WETTING[0], WETTING[1], 0.0))
+
+
 VARIANTS = [
     ("base", "the deck as generated: E-B of Table 3, no creep", [], None),
     ("creep", "CREEP cards of the geometry file, day dates, WAIT to 2004", ["--creep"], None),
@@ -113,6 +179,9 @@ VARIANTS = [
     ("moduli-0.5", "K, Kb (and Kur = 2 K) halved", [], halve_moduli),
     ("cast-early", "slab phases cast at the start of their periods (II when the fill reaches 746 m)", [], cast_early),
     ("slab-q4", "slab in plain Q4 quads", ["--slab-element", "Q4"], None),
+    ("wet-reservoir", "IIA and IIIA wetted below the reservoir at each rise (a leaking face)", [], wet_reservoir),
+    ("wet-rain", "every zone wetted once, in the first July after its placement (rain)", [], wet_rain),
+    ("wet-rain-volumetric", "rain wetting, its volumetric part only (DW = 0)", [], wet_rain_volumetric),
 ]
 
 

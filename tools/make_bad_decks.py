@@ -93,7 +93,7 @@ cases = [
  ("reservoir-twice", sub("GRAVITY\n", "GRAVITY\nRESERVOIR\n    1    4\n    1    4\n"), "{f}:19: face 4 of element 1 is wetted twice (first at line 18)"),
  ("gauge-node", sub("GRAVITY\n", "GRAVITY\nGAUGES\n    9 C1-H5\n"), "{f}:18:1-5: field NODE of GAUGES: expected a node from 1 to 6, found '9'"),
  ("gauge-name-twice", sub("GRAVITY\n", "GRAVITY\nGAUGES\n    5 C1-H5\n    6 c1-h5\n"), "{f}:19:6-15: field NAME of GAUGES 6: expected a name not used before (line 18), found 'c1-h5'"),
- ("unknown-stage", sub("GRAVITY\n", "GRAVITY\nSTAGES\nFLOOD\n"), "{f}:18: unknown stage 'FLOOD' in STAGES: expected FILL, LOAD, RESET, WATER or WAIT"),
+ ("unknown-stage", sub("GRAVITY\n", "GRAVITY\nSTAGES\nFLOOD\n"), "{f}:18: unknown stage 'FLOOD' in STAGES: expected FILL, LOAD, RESET, WATER, WAIT or WET"),
 ]
 # A joint deck: two blocks (nodes 1-6 and 7-12) joined by joints between nodes 4-6 and 7-9.
 jbase = """TITLE     bad joint deck
@@ -212,6 +212,20 @@ cases += [
  ("creep-free-text-date", tsub("FILL      SOIL          11997-05-01", "FILL      SOIL          1May 1997"), "{f}:18:26-35: field DATE of STAGES FILL: expected a date YYYY-MM-DD, YYYY.MM or YYYY-MM, found 'May 1997'"),
  ("effects-creep-word", sub("    6    2    1\n", "    6    2    1\nEFFECTS" + " " * 73 + "NEVER\n"), "{f}:5:81-90: field CREEP of CONTROL EFFECTS: expected ON (the default, also blank) or OFF, found 'NEVER'"),
  ("date-impossible", tsub("WAIT                    41998-05-01", "WAIT                    41998-02-30"), "{f}:19:26-35: field DATE of STAGES WAIT: expected a date YYYY-MM-DD, YYYY.MM or YYYY-MM, found '1998-02-30'"),
+]
+# Wetting collapse (issue 19): the WETTING card of an EB material and the WET stage.
+WETTING = "WETTING      0.003       0.6     0.004"
+def wsub(old, new):
+    deck = tbase.replace(CREEP + "\n", CREEP + "\n" + WETTING + "\n", 1)
+    assert old in deck, old
+    return deck.replace(old, new, 1)
+cases += [
+ ("wetting-not-eb", sub("   20000.0       0.3      20.0\n", "   20000.0       0.3      20.0\n" + WETTING + "\n"), "{f}:13: a WETTING card follows the two parameter cards of an EB material or its CREEP card (MATERIALS 1 is not EB)"),
+ ("wetting-before-creep", tsub(CREEP + "\n", WETTING + "\n" + CREEP + "\n"), "{f}:15: a CREEP card follows the two parameter cards of an EB material (MATERIALS 1: CREEP before WETTING)"),
+ ("wetting-cw-absurd", wsub(WETTING, WETTING.replace("     0.003", "       0.3")), "{f}:15:11-20: field CW of MATERIALS 1 WETTING: expected a real with 0 <= CW <= 0.05, found '0.3'"),
+ ("wetting-nw-zero", wsub(WETTING, WETTING.replace("       0.6", "       0.0")), "{f}:15:21-30: field NW of MATERIALS 1 WETTING: expected a real with 0 < NW <= 3, found '0.0'"),
+ ("wet-without-wetting", tsub("WAIT                    41998-05-01", "WET            690.0    41998-05-01"), "{f}:19: WET stage, but no material has a WETTING card (nothing would collapse)"),
+ ("wet-level-word", wsub("WAIT                    41998-05-01", "WET             HIGH    41998-05-01"), "{f}:20:11-20: field LEVEL of STAGES WET: expected a real number, found 'HIGH'"),
 ]
 for old in os.listdir(P):
     os.remove(P + old)

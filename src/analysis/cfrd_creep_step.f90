@@ -12,11 +12,11 @@ module cfrd_creep_step
     use cfrd_assembly, only: element_box_t
     use cfrd_duncan_eb, only: eb_tangent, eb_state_t
     use cfrd_material_law, only: eb_parameters, material_tangent
-    use cfrd_rockfill_creep, only: creep_params_t, creep_strain_increment
+    use cfrd_rockfill_creep, only: creep_params_t, creep_strain_increment, final_strain_step
     implicit none
     private
 
-    public :: creep_strains, creep_parameters
+    public :: creep_strains, creep_parameters, wetting_strains, wetting_parameters
 
     !> Creep state per Gauss point: (1) volumetric and (2) generalised shear creep strain
     !> reached, compression positive.
@@ -33,28 +33,71 @@ contains
                            d=mat%creep_d, l=mat%creep_l, pa=pa)
     end function creep_parameters
 
+    !> The wetting parameters of a material card in the form of the creep law's final
+    !> strains (b = CW, mc = NW, d = DW, l = 1: Shen's wetting model, docs/theory.md s. 16).
+    pure function wetting_parameters(mat, pa) result(p)
+        type(material_t), intent(in) :: mat
+        real(dp), intent(in) :: pa
+        type(creep_params_t) :: p
+        p = creep_params_t(alpha=0.0_dp, b=mat%wet_c, mc=mat%wet_n, d=mat%wet_d, &
+                           l=1.0_dp, pa=pa)
+    end function wetting_parameters
+
     !> Advance the creep of the active creeping elements by dt days: `creep` (ncreep,
-    !> ngauss, nelem) grows; d_creep (4, ngauss, nelem) is the step's creep strain (zero
-    !> elsewhere) and creep_stress the stresses it would relax, D d_creep with the law's
-    !> tangent at the start stress and history.
+    !> ngauss, nelem) grows; creep_stress (4, ngauss, nelem) gets the stresses the step's
+    !> creep strain would relax, D d_eps_c with the law's tangent at the start stress and
+    !> history (zero where nothing creeps).
     subroutine creep_strains(model, library, active, dt, stress, strain, history, creep, &
-                             d_creep, creep_stress)
+                             creep_stress)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         logical, intent(in) :: active(:)
         real(dp), intent(in) :: dt
         real(dp), intent(in) :: stress(:, :, :), strain(:, :, :), history(:, :, :)
         real(dp), intent(inout) :: creep(:, :, :)
-        real(dp), intent(out) :: d_creep(:, :, :), creep_stress(:, :, :)
-        real(dp) :: d(4, 4)
+        real(dp), intent(out) :: creep_stress(:, :, :)
+        creep_stress = 0.0_dp
+        call relaxed_stresses(model, library, active, .false., dt, stress, strain, history, &
+                              creep, creep_stress)
+    end subroutine creep_strains
+
+    !> The wetting collapse of the elements of `wetting` (a WET stage) over one increment:
+    !> the share `share` of what remains of their wetting strains (final values at the
+    !> start stress less the strain reached, `wet`) is taken, and its relaxed stresses
+    !> D d_eps_w are added to creep_stress (the load of the increment, as for creep).
+    subroutine wetting_strains(model, library, wetting, share, stress, strain, history, wet, &
+                               creep_stress)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        logical, intent(in) :: wetting(:)
+        real(dp), intent(in) :: share
+        real(dp), intent(in) :: stress(:, :, :), strain(:, :, :), history(:, :, :)
+        real(dp), intent(inout) :: wet(:, :, :)
+        real(dp), intent(inout) :: creep_stress(:, :, :)
+        call relaxed_stresses(model, library, wetting, .true., share, stress, strain, &
+                              history, wet, creep_stress)
+    end subroutine wetting_strains
+
+    !> At every point of the elements of `mask` whose material creeps (or, with `wetting`,
+    !> collapses on wetting): the step of the law from the strains `reached` (dt days of
+    !> creep, or the share `amount` of the wetting that remains), and D times its strain
+    !> added to creep_stress, D the law's tangent at the start stress and history.
+    subroutine relaxed_stresses(model, library, mask, wetting, amount, stress, strain, &
+                                history, reached, creep_stress)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        logical, intent(in) :: mask(:), wetting
+        real(dp), intent(in) :: amount
+        real(dp), intent(in) :: stress(:, :, :), strain(:, :, :), history(:, :, :)
+        real(dp), intent(inout) :: reached(:, :, :)
+        real(dp), intent(inout) :: creep_stress(:, :, :)
+        real(dp) :: d(4, 4), d_strain(4), bulk, shear
         type(eb_state_t) :: law_state
         integer :: e, ig
-        d_creep = 0.0_dp
-        creep_stress = 0.0_dp
         do e = 1, model%mesh%nelem
-            if (.not. active(e)) cycle
+            if (.not. mask(e)) cycle
             associate (mat => model%materials(model%mesh%material(e)))
-                if (.not. mat%creep) cycle
+                if (.not. merge(mat%wetting, mat%creep, wetting)) cycle
                 do ig = 1, library(model%mesh%kind(e))%element%gauss_points()
                     ! sigma3 and the stress level of the E-B law at this point
                     call eb_tangent(eb_parameters(mat, model%pa), stress(:, ig, e), &
@@ -62,15 +105,23 @@ contains
                     ! the tangent that relaxes the stresses: bulk and shear moduli
                     call material_tangent(mat, model%pa, stress(:, ig, e), strain(:, ig, e), &
                                           history(:, ig, e), d)
-                    call creep_strain_increment(creep_parameters(mat, model%pa), &
-                                                stress(:, ig, e), law_state%sigma3, &
-                                                law_state%level, dt, creep(1, ig, e), &
-                                                creep(2, ig, e), d_creep(:, ig, e), &
-                                                bulk=(d(1, 1) + 2.0_dp*d(1, 2))/3.0_dp, &
-                                                shear=d(4, 4))
-                    creep_stress(:, ig, e) = matmul(d, d_creep(:, ig, e))
+                    bulk = (d(1, 1) + 2.0_dp*d(1, 2))/3.0_dp
+                    shear = d(4, 4)
+                    if (wetting) then
+                        call final_strain_step(wetting_parameters(mat, model%pa), &
+                                               stress(:, ig, e), law_state%sigma3, &
+                                               law_state%level, amount, reached(1, ig, e), &
+                                               reached(2, ig, e), d_strain, bulk, shear)
+                    else
+                        call creep_strain_increment(creep_parameters(mat, model%pa), &
+                                                    stress(:, ig, e), law_state%sigma3, &
+                                                    law_state%level, amount, &
+                                                    reached(1, ig, e), reached(2, ig, e), &
+                                                    d_strain, bulk, shear)
+                    end if
+                    creep_stress(:, ig, e) = creep_stress(:, ig, e) + matmul(d, d_strain)
                 end do
             end associate
         end do
-    end subroutine creep_strains
+    end subroutine relaxed_stresses
 end module cfrd_creep_step

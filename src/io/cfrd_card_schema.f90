@@ -14,9 +14,9 @@ module cfrd_card_schema
 
     public :: card_schema_t, card_schemas
     public :: control_fields, effects_fields, node_fields, element_fields, material_fields, &
-              elastic_fields, eb_fields, eb_strength_fields, creep_fields, goodman_fields, &
-              interface_fields, slab_fields, stage_fields, load_stage_fields, &
-              water_stage_fields, surface_fields, pair_fields, reservoir_fields, &
+              elastic_fields, eb_fields, eb_strength_fields, creep_fields, wetting_fields, &
+              goodman_fields, interface_fields, slab_fields, stage_fields, load_stage_fields, &
+              water_stage_fields, wet_stage_fields, surface_fields, pair_fields, reservoir_fields, &
               gauge_fields, boundary_fields, gravity_fields, force_fields, pressure_fields
 
     !> A card layout and where docs/cards.md documents it: the group (its `###` section) and
@@ -35,6 +35,7 @@ module cfrd_card_schema
     !> Bounds of the creep parameters: values beyond them are mistyped fields (published
     !> laboratory and back-analysed values lie well inside, docs/theory.md section 15).
     real(dp), parameter :: alpha_max = 1.0_dp     !! 1/day: 63 % of the creep in one day
+    !> (and of the wetting parameters, docs/theory.md section 16)
     real(dp), parameter :: strain_max = 0.05_dp   !! final creep strains at pa, S/(1-S) = 1
     real(dp), parameter :: exponent_max = 3.0_dp
 
@@ -163,6 +164,16 @@ module cfrd_card_schema
                 expected='a real with 0 <= D <= 0.05'), &
         field_t('L', 51, 10, real_field, required=.true., lo=0.0_dp, lo_open=.true., &
                 hi=exponent_max, expected='a real with 0 < L <= 3')]
+    !> The WETTING card that may follow an EB material's two parameter cards or its CREEP
+    !> card (Shen's wetting collapse).
+    type(field_t), parameter :: wetting_fields(4) = [ &
+        field_t('KEYWORD', 1, 10, text_field), &
+        field_t('CW', 11, 10, real_field, required=.true., lo=0.0_dp, hi=strain_max, &
+                expected='a real with 0 <= CW <= 0.05'), &
+        field_t('NW', 21, 10, real_field, required=.true., lo=0.0_dp, lo_open=.true., &
+                hi=exponent_max, expected='a real with 0 < NW <= 3'), &
+        field_t('DW', 31, 10, real_field, required=.true., lo=0.0_dp, hi=strain_max, &
+                expected='a real with 0 <= DW <= 0.05')]
     !> GOODMAN card 2; SNMIN, the floor on the compressive normal stress in ks, blank:
     !> 0.1 pa, as SIG3MIN of EB.
     type(field_t), parameter :: goodman_fields(8) = [ &
@@ -218,6 +229,15 @@ module cfrd_card_schema
         field_t('KEYWORD', 1, 10, text_field), &
         field_t('LEVEL', 11, 10, real_field, required=.true., &
                 expected='the reservoir level to reach (m)'), &
+        stage_ninc, &
+        field_t('DATE', 26, 10, text_field), &
+        field_t('LABEL', 36, 45, text_field)]
+
+    !> A WET stage card: field 2 is the level below which elements are wetted; blank:
+    !> every element (an infinite level).
+    type(field_t), parameter :: wet_stage_fields(5) = [ &
+        field_t('KEYWORD', 1, 10, text_field), &
+        field_t('LEVEL', 11, 10, real_field, default=big), &
         stage_ninc, &
         field_t('DATE', 26, 10, text_field), &
         field_t('LABEL', 36, 45, text_field)]
@@ -287,7 +307,7 @@ contains
     !> Every card layout, named as in docs/cards.md (group section, card number).
     function card_schemas() result(cards)
         type(card_schema_t), allocatable :: cards(:)
-        allocate (cards(23))
+        allocate (cards(25))
         call set(1, 'CONTROL', 'CONTROL', 0, control_fields)
         call set(2, 'CONTROL EFFECTS', 'CONTROL', 0, effects_fields)
         call set(3, 'NODES', 'NODES', 0, node_fields)
@@ -297,20 +317,22 @@ contains
         call set(7, 'MATERIALS EB card 2', 'MATERIALS', 2, eb_fields)
         call set(8, 'MATERIALS EB card 3', 'MATERIALS', 3, eb_strength_fields)
         call set(9, 'MATERIALS CREEP', 'MATERIALS', 0, creep_fields)
-        call set(10, 'MATERIALS GOODMAN card 2', 'MATERIALS', 0, goodman_fields)
-        call set(11, 'BOUNDARY', 'BOUNDARY', 0, boundary_fields)
-        call set(12, 'LOADS GRAVITY', 'LOADS', 0, gravity_fields)
-        call set(13, 'LOADS FORCE', 'LOADS', 0, force_fields)
-        call set(14, 'LOADS PRESSURE', 'LOADS', 0, pressure_fields)
-        call set(15, 'RESERVOIR', 'RESERVOIR', 0, reservoir_fields)
-        call set(16, 'GAUGES', 'GAUGES', 0, gauge_fields)
-        call set(17, 'INTERFACE', 'INTERFACE', 0, interface_fields)
-        call set(18, 'SLAB', 'SLAB', 0, slab_fields)
-        call set(19, 'CONTACT SURFACE', 'CONTACT', 0, surface_fields)
-        call set(20, 'CONTACT PAIR', 'CONTACT', 0, pair_fields)
-        call set(21, 'STAGES FILL', 'STAGES', 0, stage_fields)
-        call set(22, 'STAGES LOAD', 'STAGES', 0, load_stage_fields)
-        call set(23, 'STAGES WATER', 'STAGES', 0, water_stage_fields)
+        call set(10, 'MATERIALS WETTING', 'MATERIALS', 0, wetting_fields)
+        call set(11, 'MATERIALS GOODMAN card 2', 'MATERIALS', 0, goodman_fields)
+        call set(12, 'BOUNDARY', 'BOUNDARY', 0, boundary_fields)
+        call set(13, 'LOADS GRAVITY', 'LOADS', 0, gravity_fields)
+        call set(14, 'LOADS FORCE', 'LOADS', 0, force_fields)
+        call set(15, 'LOADS PRESSURE', 'LOADS', 0, pressure_fields)
+        call set(16, 'RESERVOIR', 'RESERVOIR', 0, reservoir_fields)
+        call set(17, 'GAUGES', 'GAUGES', 0, gauge_fields)
+        call set(18, 'INTERFACE', 'INTERFACE', 0, interface_fields)
+        call set(19, 'SLAB', 'SLAB', 0, slab_fields)
+        call set(20, 'CONTACT SURFACE', 'CONTACT', 0, surface_fields)
+        call set(21, 'CONTACT PAIR', 'CONTACT', 0, pair_fields)
+        call set(22, 'STAGES FILL', 'STAGES', 0, stage_fields)
+        call set(23, 'STAGES LOAD', 'STAGES', 0, load_stage_fields)
+        call set(24, 'STAGES WATER', 'STAGES', 0, water_stage_fields)
+        call set(25, 'STAGES WET', 'STAGES', 0, wet_stage_fields)
     contains
         subroutine set(i, name, group, card, fields)
             integer, intent(in) :: i, card

@@ -16,7 +16,8 @@ module cfrd_deck
                                 g_boundary, g_loads, g_stages, g_reservoir, g_gauges, &
                                 g_interface, g_slab, g_contact, ngroups, group_keywords, &
                                 valid_groups, group_required, load_keywords, stage_keywords, &
-                                contact_keywords, effects_keyword, creep_keyword
+                                contact_keywords, effects_keyword, creep_keyword, &
+                                wetting_keyword
     use cfrd_deck_control, only: read_control, apply_deck_effects
     use cfrd_deck_materials, only: read_materials
     use cfrd_deck_mesh, only: read_nodes, read_elements
@@ -169,7 +170,8 @@ contains
                 end if
                 if (.not. ((current < 0 .and. any(load_keywords == word)) .or. &
                            (current == g_control .and. word == effects_keyword) .or. &
-                           (current == g_materials .and. word == creep_keyword) .or. &
+                           (current == g_materials .and. (word == creep_keyword .or. &
+                                                          word == wetting_keyword)) .or. &
                            (current == g_stages .and. any(stage_keywords == word)) .or. &
                            (current == g_contact .and. any(contact_keywords == word)))) then
                     if (current < 0) then
@@ -177,7 +179,8 @@ contains
                                         "' in LOADS: expected GRAVITY, FORCE or PRESSURE")
                     else if (current == g_stages) then
                         call card_error(error, lines%file, card, "unknown stage '"//word// &
-                                        "' in STAGES: expected FILL, LOAD, RESET, WATER or WAIT")
+                                        "' in STAGES: expected FILL, LOAD, RESET, WATER, "// &
+                                        "WAIT or WET")
                     else if (current == g_contact) then
                         call card_error(error, lines%file, card, "unknown card '"//word// &
                                         "' in CONTACT: expected SURFACE or PAIR")

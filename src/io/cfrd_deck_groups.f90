@@ -10,7 +10,7 @@ module cfrd_deck_groups
     public :: g_title, g_control, g_nodes, g_elements, g_materials, g_boundary, g_loads, &
               g_stages, g_reservoir, g_gauges, g_interface, g_slab, g_contact, ngroups
     public :: group_keywords, valid_groups, group_required, load_keywords, stage_keywords, &
-              contact_keywords, effects_keyword, creep_keyword, max_number
+              contact_keywords, effects_keyword, creep_keyword, wetting_keyword, max_number
 
     integer, parameter :: g_title = 1, g_control = 2, g_nodes = 3, g_elements = 4, &
                           g_materials = 5, g_boundary = 6, g_loads = 7, g_stages = 8, &
@@ -29,14 +29,17 @@ module cfrd_deck_groups
                                                      .false.]
     character(len=10), parameter :: load_keywords(3) = [character(len=10) :: 'GRAVITY', &
                                                         'FORCE', 'PRESSURE']
-    character(len=10), parameter :: stage_keywords(5) = [character(len=10) :: 'FILL', &
-                                                         'LOAD', 'RESET', 'WATER', 'WAIT']
+    character(len=10), parameter :: stage_keywords(6) = [character(len=10) :: 'FILL', &
+                                                         'LOAD', 'RESET', 'WATER', 'WAIT', &
+                                                         'WET']
     character(len=10), parameter :: contact_keywords(2) = [character(len=10) :: 'SURFACE', &
                                                            'PAIR']
     !> The card of CONTROL that lists the effects a deck asks for.
     character(len=*), parameter :: effects_keyword = 'EFFECTS'
     !> The card of MATERIALS that gives an EB material its creep (after its two cards).
     character(len=*), parameter :: creep_keyword = 'CREEP'
+    !> ... and its wetting collapse (WETTING, after the two cards or the CREEP card).
+    character(len=*), parameter :: wetting_keyword = 'WETTING'
 
     !> Largest node or element number accepted when the CONTROL card gives no count
     !> (guards against a mistyped number allocating gigabytes).
@@ -82,7 +85,8 @@ contains
         if (card%text(1:1) == ' ' .and. .not. (word == 'END' .or. word == 'STOP' .or. &
             any(group_keywords == word) .or. any(load_keywords == word) .or. &
             any(stage_keywords == word) .or. any(contact_keywords == word) .or. &
-            word == effects_keyword .or. word == creep_keyword)) word = ''
+            word == effects_keyword .or. word == creep_keyword .or. &
+            word == wetting_keyword)) word = ''
     end function leading_word
 
     subroutine append_card(group, card)

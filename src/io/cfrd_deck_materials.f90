@@ -1,16 +1,18 @@
 !> MATERIALS: a card naming each material and its law, then the law's parameter cards
-!> (ELASTIC one, EB two and an optional CREEP card, GOODMAN one), each read and checked
-!> against its layout in the card schema. What is left here is the sequence of the cards
-!> and the numbering.
+!> (ELASTIC one, EB two and optional CREEP and WETTING cards, GOODMAN one), each read and
+!> checked against its layout in the card schema. What is left here is the sequence of the
+!> cards and the numbering.
 module cfrd_deck_materials
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t
     use cfrd_model, only: model_t, material_t, law_elastic, law_duncan_eb, law_goodman
     use cfrd_cards, only: card_t, get_text, field_error, card_error, upper, is_real, to_text
     use cfrd_card_schema, only: material_fields, elastic_fields, eb_fields, &
-                                eb_strength_fields, creep_fields, goodman_fields
+                                eb_strength_fields, creep_fields, wetting_fields, &
+                                goodman_fields
     use cfrd_card_reader, only: card_values_t, read_card
-    use cfrd_deck_groups, only: group_cards_t, counts_t, check_numbering, creep_keyword
+    use cfrd_deck_groups, only: group_cards_t, counts_t, check_numbering, creep_keyword, &
+                                wetting_keyword
     implicit none
     private
 
@@ -30,7 +32,7 @@ contains
         integer, allocatable :: number(:), first_card(:), defined(:)
         type(material_t), allocatable :: mats(:)
         type(card_values_t) :: v
-        character(len=:), allocatable :: ctx
+        character(len=:), allocatable :: ctx, law
         integer :: i, n, m, limit, nmat
         allocate (number(group%n), first_card(group%n), mats(group%n))
         n = 0
@@ -38,13 +40,20 @@ contains
         limit = merge(counts%nmat, group%n, counts%nmat > 0)
         do while (i <= group%n)
             associate (card => group%cards(i))
-                if (is_creep_card(card)) then
-                    ctx = 'a CREEP card follows the two parameter cards of an EB material'
+                if (is_creep_card(card) .or. is_wetting_card(card)) then
+                    law = merge(creep_keyword//'  ', wetting_keyword, is_creep_card(card))
+                    law = trim(law)
+                    ctx = 'a '//law//' card follows the two parameter cards of an EB material'
+                    if (law == wetting_keyword) ctx = ctx//' or its CREEP card'
                     if (n > 0) then
-                        if (mats(n)%law == law_duncan_eb) then
+                        if (mats(n)%law /= law_duncan_eb) then
+                            ctx = ctx//' (MATERIALS '//to_text(number(n))//' is not EB)'
+                        else if ((law == creep_keyword .and. mats(n)%creep) .or. &
+                                 (law == wetting_keyword .and. mats(n)%wetting)) then
                             ctx = ctx//' (MATERIALS '//to_text(number(n))//' has one already)'
                         else
-                            ctx = ctx//' (MATERIALS '//to_text(number(n))//' is not EB)'
+                            ctx = ctx//' (MATERIALS '//to_text(number(n))//': CREEP '// &
+                                  'before WETTING)'
                         end if
                     end if
                     call card_error(error, file, card, ctx)
@@ -79,6 +88,13 @@ contains
                 if (i <= group%n) then
                     if (is_creep_card(group%cards(i))) then
                         call read_creep_card(file, group%cards(i), ctx, mats(n), error)
+                        if (allocated(error)) return
+                        i = i + 1
+                    end if
+                end if
+                if (i <= group%n) then
+                    if (is_wetting_card(group%cards(i))) then
+                        call read_wetting_card(file, group%cards(i), ctx, mats(n), error)
                         if (allocated(error)) return
                         i = i + 1
                     end if
@@ -216,6 +232,29 @@ contains
         mat%creep_l = v%x(6)
         mat%creep = .true.
     end subroutine read_creep_card
+
+    !> A card whose columns 1-10 hold the keyword WETTING.
+    logical function is_wetting_card(card)
+        type(card_t), intent(in) :: card
+        character(len=:), allocatable :: keyword
+        call get_text(card, wetting_fields, 1, keyword)
+        is_wetting_card = upper(keyword) == wetting_keyword
+    end function is_wetting_card
+
+    !> The WETTING card of an EB material: CW, NW, DW, each required (docs/theory.md s. 16).
+    subroutine read_wetting_card(file, card, ctx, mat, error)
+        character(len=*), intent(in) :: file, ctx
+        type(card_t), intent(in) :: card
+        type(material_t), intent(inout) :: mat
+        type(error_t), allocatable, intent(out) :: error
+        type(card_values_t) :: v
+        call read_card(file, card, wetting_fields, ctx//' WETTING', v, error, only=[2, 3, 4])
+        if (allocated(error)) return
+        mat%wet_c = v%x(2)
+        mat%wet_n = v%x(3)
+        mat%wet_d = v%x(4)
+        mat%wetting = .true.
+    end subroutine read_wetting_card
 
     !> A material's first card: its LAW field holds a word.
     logical function is_material_card(card)

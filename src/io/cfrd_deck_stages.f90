@@ -6,11 +6,12 @@ module cfrd_deck_stages
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, input_error
     use cfrd_model, only: model_t, stage_fill, stage_load, stage_reset, stage_water, &
-                          stage_wait, has_creep, no_date
+                          stage_wait, stage_wet, has_creep, has_wetting, no_date
     use cfrd_cards, only: card_t, field_t, field_error, card_error, upper, to_text
     use cfrd_strings, only: level_text
     use cfrd_dates, only: parse_date, date_forms
-    use cfrd_card_schema, only: stage_fields, load_stage_fields, water_stage_fields
+    use cfrd_card_schema, only: stage_fields, load_stage_fields, water_stage_fields, &
+                                wet_stage_fields
     use cfrd_card_reader, only: card_values_t, read_card, raw_text, position, group_list
     use cfrd_deck_groups, only: group_cards_t
     implicit none
@@ -125,9 +126,23 @@ contains
                     if (allocated(error)) return
                     stage%level = v%x(2)
                     stage%label = 'WATER '//level_text(stage%level)//stage%label(6:)
+                case ('WET')
+                    stage%kind = stage_wet
+                    if (.not. has_wetting(model)) then
+                        call card_error(error, file, card, 'WET stage, but no material '// &
+                                        'has a WETTING card (nothing would collapse)')
+                        return
+                    end if
+                    ! blank: every element; else those whose centroid lies below LEVEL
+                    call read_card(file, card, wet_stage_fields, ctx, v, error, only=[2])
+                    if (allocated(error)) return
+                    stage%level = v%x(2)
+                    if (v%given(2)) stage%label = 'WET '//level_text(stage%level)// &
+                                                  stage%label(4:)
                 case default
                     call card_error(error, file, card, "unknown stage '"//keyword// &
-                                    "' in STAGES: expected FILL, LOAD, RESET, WATER or WAIT")
+                                    "' in STAGES: expected FILL, LOAD, RESET, WATER, "// &
+                                    "WAIT or WET")
                     return
                 end select
                 call read_card(file, card, stage_fields, ctx, v, error, only=[3])

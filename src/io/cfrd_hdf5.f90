@@ -248,6 +248,10 @@ contains
                                'volumetric and generalised shear creep strain reached '// &
                                '(compression positive; zero where the material does not '// &
                                'creep)', st)
+        if (allocated(stage%wetting_gauss)) &
+            call dataset_real3(stage_id, 'wetting_gauss', stage%wetting_gauss, '-', &
+                               'volumetric and generalised shear wetting strain reached '// &
+                               '(compression positive; zero where nothing was wetted)', st)
         call write_interface_stage(stage_id, file, stage, st)
         call open_group(stage_id, 'solver', solver_id, st)
         call attr_int(solver_id, 'neq', stage%stats%neq, st)

@@ -21,6 +21,7 @@ module cfrd_rockfill_creep
     private
 
     public :: creep_params_t, creep_final_strains, creep_advance, creep_strain_increment
+    public :: final_strain_step
     public :: relax_max
 
     !> The largest share of the mean stress or of the deviator that one step's creep may
@@ -91,10 +92,33 @@ contains
         real(dp), intent(inout) :: ev, es
         real(dp), intent(out) :: d_strain(4)
         real(dp), intent(in), optional :: bulk, shear
+        real(dp) :: share
+        share = 0.0_dp
+        if (dt > 0.0_dp) share = one_minus_exp(p%alpha*dt)
+        call final_strain_step(p, stress, sigma3, level, share, ev, es, d_strain, bulk, shear)
+    end subroutine creep_strain_increment
+
+    !> The strain increment (FE convention) that takes the strains reached, ev and es, the
+    !> share `share` (0..1) of the way to their final values at this stress, with the same
+    !> flow rule and limits as creep_strain_increment. The wetting collapse of rockfill
+    !> (Shen's wetting model, docs/theory.md section 16) is this step with the wetting
+    !> parameters in p (b = CW, mc = NW, d = DW, l = 1) and the share of the wetting that
+    !> remains taken in the increment.
+    pure subroutine final_strain_step(p, stress, sigma3, level, share, ev, es, d_strain, &
+                                      bulk, shear)
+        type(creep_params_t), intent(in) :: p
+        real(dp), intent(in) :: stress(4), sigma3, level, share
+        real(dp), intent(inout) :: ev, es
+        real(dp), intent(out) :: d_strain(4)
+        real(dp), intent(in), optional :: bulk, shear
         real(dp) :: ev_final, es_final, dev, des, mean, s(4), q
         call creep_final_strains(p, sigma3, level, ev_final, es_final)
-        dev = creep_advance(p, ev, ev_final, dt) - ev
-        des = creep_advance(p, es, es_final, dt) - es
+        ! no recovery: nothing when the final strain is below the strain reached (the
+        ! difference of the advanced and the reached strain, as creep_advance)
+        dev = 0.0_dp
+        des = 0.0_dp
+        if (ev_final > ev .and. share > 0.0_dp) dev = (ev + (ev_final - ev)*share) - ev
+        if (es_final > es .and. share > 0.0_dp) des = (es + (es_final - es)*share) - es
         mean = sum(stress(1:3))/3.0_dp
         s = [stress(1) - mean, stress(2) - mean, stress(3) - mean, stress(4)]
         q = sqrt(1.5_dp*(s(1)**2 + s(2)**2 + s(3)**2 + 2.0_dp*s(4)**2))
@@ -109,5 +133,5 @@ contains
             d_strain(1:3) = d_strain(1:3) + 1.5_dp*des*s(1:3)/q
             d_strain(4) = 3.0_dp*des*s(4)/q
         end if
-    end subroutine creep_strain_increment
+    end subroutine final_strain_step
 end module cfrd_rockfill_creep

@@ -9,7 +9,7 @@ module cfrd_model
 
     public :: model_t, mesh_t, material_t, gravity_load_t, pressure_load_t, load_set_t
     public :: stage_t, stage_fill, stage_load, stage_reset, stage_water, stage_wait
-    public :: stage_kind_name, no_date, has_creep
+    public :: stage_kind_name, no_date, has_creep, has_wetting, stage_wet
     public :: wet_face_t, gauge_t, dry_level
     public :: plane_strain, axisymmetric, law_elastic, law_duncan_eb, law_goodman, all_groups
     public :: elem_quad4, elem_quad4_shear, elem_joint_gauss, elem_joint_lobatto, is_joint_kind
@@ -34,6 +34,7 @@ module cfrd_model
     integer, parameter :: stage_reset = 3   !! zero the displacements, keep the stresses
     integer, parameter :: stage_water = 4   !! raise or lower the reservoir to a level
     integer, parameter :: stage_wait = 5    !! let time pass with no load (creep)
+    integer, parameter :: stage_wet = 6     !! wet the rockfill below a level (collapse)
 
     !> The day number of a stage without a date (or with a free-text one): no time passes.
     real(dp), parameter :: no_date = -huge(1.0_dp)
@@ -103,6 +104,11 @@ module cfrd_model
         logical :: creep = .false.
         real(dp) :: creep_alpha = 0.0_dp, creep_b = 0.0_dp, creep_mc = 0.0_dp
         real(dp) :: creep_d = 0.0_dp, creep_l = 0.0_dp
+        !> E-B: wetting collapse (the WETTING card, docs/theory.md section 16): final
+        !> volumetric strain cw and exponent nw of sigma3/pa, final shear strain dw times
+        !> S/(1 - S), taken when a WET stage wets the element
+        logical :: wetting = .false.
+        real(dp) :: wet_c = 0.0_dp, wet_n = 0.0_dp, wet_d = 0.0_dp
     end type material_t
 
     !> One element of an interface line (INTERFACE cards): a joint or a thin-layer quad
@@ -198,7 +204,8 @@ module cfrd_model
         integer :: kind = stage_load
         integer :: group = 0          !! element group activated (FILL)
         integer :: load_set = 1       !! load set applied (LOAD)
-        real(dp) :: level = 0.0_dp    !! reservoir level reached (WATER), m
+        !> reservoir level reached (WATER), or the level below which a WET stage wets, m
+        real(dp) :: level = 0.0_dp
         integer :: increments = 1
         character(len=:), allocatable :: label
         character(len=:), allocatable :: date   !! calendar date as written, may be ''
@@ -318,6 +325,8 @@ contains
             name = 'WATER'
         case (stage_wait)
             name = 'WAIT'
+        case (stage_wet)
+            name = 'WET'
         case default
             name = 'UNKNOWN'
         end select
@@ -329,4 +338,11 @@ contains
         has_creep = .false.
         if (allocated(model%materials)) has_creep = any(model%materials%creep)
     end function has_creep
+
+    !> Whether some material of the model collapses on wetting (WETTING cards).
+    pure logical function has_wetting(model)
+        type(model_t), intent(in) :: model
+        has_wetting = .false.
+        if (allocated(model%materials)) has_wetting = any(model%materials%wetting)
+    end function has_wetting
 end module cfrd_model

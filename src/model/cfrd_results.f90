@@ -131,6 +131,8 @@ module cfrd_results
         real(dp) :: day = -huge(1.0_dp)
         !> (2, ngauss, nelem) volumetric and shear creep strains reached (decks with CREEP)
         real(dp), allocatable :: creep_gauss(:, :, :)
+        !> (2, ngauss, nelem) wetting strains reached, volumetric and shear (WETTING cards)
+        real(dp), allocatable :: wetting_gauss(:, :, :)
         real(dp), allocatable :: displacement(:, :)   !! (2, nnode) m, since the last RESET
         !> (2, nnode) m, since each node's placement: the displacements set to zero by
         !> RESET stages are added back (what a gauge installed with the fill measures)

@@ -1,0 +1,427 @@
+!> One increment of a stage, solved: the predictor with the tangent at its start, the
+!> midpoint (modified Euler) corrector, forward Euler, or Newton iterations with the
+!> consistent tangent and a line search (docs/theory.md sections 9 and 12); the stress
+!> update of every Gauss point, the out-of-balance force, and the acceptance of the
+!> increment into the state. With contact, the geometry is updated first and each solve
+!> iterates the active set (cfrd_active_set).
+module cfrd_increment
+    use cfrd_kinds, only: dp
+    use cfrd_error, only: error_t, fatal_error, numerical_error
+    use cfrd_clock, only: wall_seconds
+    use cfrd_strings, only: to_text, real_text
+    use cfrd_model, only: model_t, solver_euler, solver_newton
+    use cfrd_results, only: stage_result_t
+    use cfrd_material_law, only: is_linear, update_history, material_update, &
+                                 material_update_tangent
+    use cfrd_assembly, only: element_box_t, dof_map_t, assemble_tangent, internal_forces, &
+                             gather
+    use cfrd_contact, only: contact_t, contact_geometry, contact_forces, contact_accept
+    use cfrd_linear_system, only: system_t, new_system, factorise_values, factorise_contact, &
+                                  multiplier_scale
+    use cfrd_active_set, only: solve_system
+    use cfrd_stage_state, only: state_t, ngauss
+    implicit none
+    private
+
+    public :: solve_increment, integrate_stress, accept_history, all_linear
+
+contains
+
+
+    !> Assemble the tangent at the given stresses and factorise it (numeric phase only while
+    !> the pattern holds). A constant (linear elastic) tangent is factorised once per system.
+    !> With contact (`contact` present), K is kept apart and the contact rows of the current
+    !> active set are added before each factorisation (factorise_contact).
+    subroutine factorise_at(model, library, state, stress, system, result, context, error, &
+                            tangents, contact)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        type(state_t), intent(in) :: state
+        real(dp), intent(in) :: stress(:, :, :)
+        type(system_t), intent(inout) :: system
+        type(stage_result_t), intent(inout) :: result
+        character(len=*), intent(in) :: context
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), intent(in), optional :: tangents(:, :, :, :)
+        type(contact_t), intent(in), optional :: contact
+        real(dp) :: t0, t1
+        logical :: linear, assembled_before
+        linear = all_linear(model, state%active)
+        if (present(contact)) then
+            assembled_before = allocated(system%k_values)
+            if (.not. (linear .and. allocated(system%k_values))) then
+                t0 = wall_seconds()
+                call assemble_tangent(model, library, state%active, system%pattern, stress, &
+                                      state%strain, state%history, system%values, tangents)
+                if (.not. allocated(system%k_values)) system%contact_scale = &
+                    multiplier_scale(system, contact)
+                system%k_values = system%values
+                result%stats%t_assembly = result%stats%t_assembly + (wall_seconds() - t0)
+            end if
+            ! K alone unchanged (linear, assembled already): only contact rows can differ
+            call factorise_contact(model, system, contact, result, context, error, &
+                                   linear .and. assembled_before)
+            return
+        end if
+        if (linear .and. system%factorised_linear) return
+        t0 = wall_seconds()
+        call assemble_tangent(model, library, state%active, system%pattern, stress, &
+                              state%strain, state%history, system%values, tangents)
+        t1 = wall_seconds()
+        result%stats%t_assembly = result%stats%t_assembly + (t1 - t0)
+        call factorise_values(system, result, context, error)
+        system%factorised_linear = linear
+    end subroutine factorise_at
+
+    pure logical function all_linear(model, active)
+        type(model_t), intent(in) :: model
+        logical, intent(in) :: active(:)
+        integer :: e
+        all_linear = .true.
+        do e = 1, model%mesh%nelem
+            if (.not. active(e)) cycle
+            if (.not. is_linear(model%materials(model%mesh%material(e)))) then
+                all_linear = .false.
+                return
+            end if
+        end do
+    end function all_linear
+
+    !> One increment to the external load `f_target`: the right-hand side is the out-of-
+    !> balance force f_target - f_int(sigma_n), so that the residual left by earlier increments
+    !> is carried into this one (equilibrium correction). With contact, the geometry is
+    !> updated first (the paper's Step 6) and each solve iterates the active set; the contact
+    !> state changes only when the increment is accepted.
+    subroutine solve_increment(model, library, state, system, f_target, du_prescribed, &
+                               result, context, error)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        type(state_t), intent(inout) :: state
+        type(system_t), intent(inout) :: system
+        real(dp), intent(in) :: f_target(:, :)
+        real(dp), intent(in) :: du_prescribed(:, :)   !! increment of prescribed displacements
+        type(stage_result_t), intent(inout) :: result
+        character(len=*), intent(in) :: context
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), allocatable :: du(:, :), stress_end(:, :, :), stress_mid(:, :, :)
+        real(dp) :: residual, load_norm, recent, t0
+        real(dp), allocatable :: rhs_stress(:, :, :)
+        integer :: iteration
+        type(contact_t), allocatable :: contact
+        logical :: changed, searched
+
+        load_norm = max(norm2(f_target), tiny(1.0_dp))
+        system%viscous = 0.0_dp
+        if (state%has_contact) then
+            contact = state%contact
+            t0 = wall_seconds()
+            call contact_geometry(model, state%active, contact, changed, searched)
+            result%stats%t_contact = result%stats%t_contact + (wall_seconds() - t0)
+            if (searched) result%stats%searches = result%stats%searches + 1
+            if (changed) then
+                t0 = wall_seconds()
+                call new_system(model, library, state%active, system, error, contact, .true.)
+                if (allocated(error)) return
+                result%stats%t_pattern = result%stats%t_pattern + (wall_seconds() - t0)
+                result%stats%patterns = result%stats%patterns + 1
+                result%stats%neq = system%pattern%n
+                result%stats%nnz = system%pattern%nnz
+            end if
+        end if
+        ! Predictor with the tangent at the start of the increment.
+        call factorise_at(model, library, state, state%stress, system, result, context, error, &
+                          contact=contact)
+        if (allocated(error)) return
+        ! With creep the start stresses less the stresses the increment's creep relaxes: the
+        ! creep load joins the out-of-balance force (cfrd_creep_step).
+        rhs_stress = state%stress
+        if (allocated(state%creep_stress)) rhs_stress = rhs_stress - state%creep_stress
+        call solve_out_of_balance(model, library, state, rhs_stress, f_target, du_prescribed, &
+                                  system, du, result, context, error, contact)
+        if (allocated(error)) return
+        if (model%solver == solver_euler .or. system%factorised_linear .or. &
+            (state%has_contact .and. all_linear(model, state%active))) then
+            ! Euler; or a linear law, for which the midpoint step would repeat the same solve.
+            call integrate_stress(model, library, state, du, stress_end, stress_mid, .false., &
+                                  creep_share=1.0_dp)
+        else
+            ! Midpoint: stresses half-way, the tangent there, and the increment again.
+            call integrate_stress(model, library, state, 0.5_dp*du, stress_mid, stress_end, &
+                                  .false., creep_share=0.5_dp)
+            call factorise_at(model, library, state, stress_mid, system, result, context, &
+                              error, contact=contact)
+            if (allocated(error)) return
+            call solve_out_of_balance(model, library, state, rhs_stress, f_target, &
+                                      du_prescribed, system, du, result, context, error, contact)
+            if (allocated(error)) return
+            call integrate_stress(model, library, state, du, stress_end, stress_mid, .true., &
+                                  creep_share=1.0_dp)
+        end if
+        residual = out_of_balance(model, library, state%active, stress_end, f_target, &
+                                  system%dofmap, contact)/load_norm
+        if (model%solver == solver_newton) then
+            iteration = 0
+            recent = huge(1.0_dp)
+            do while (residual > model%tolerance)
+                iteration = iteration + 1
+                ! A stall (the residual not halved over the last four iterations) ends the
+                ! iterations early, so that a cutback can be tried without waste.
+                if (mod(iteration, 4) == 1) then
+                    if (iteration > 1 .and. residual > 0.5_dp*recent) then
+                        call fatal_error(error, context//': no convergence: Newton '// &
+                                         'iterations stalled at iteration '// &
+                                         to_text(iteration - 1)//' (relative residual '// &
+                                         real_text(residual)//', tolerance '// &
+                                         real_text(model%tolerance)//'; largest out-of-'// &
+                                         'balance force at '//worst_node()//')', &
+                                         numerical_error)
+                        return
+                    end if
+                    recent = residual
+                end if
+                if (iteration > model%max_iterations) then
+                    call fatal_error(error, context//': no convergence after '// &
+                                     to_text(model%max_iterations)//' Newton iterations '// &
+                                     '(relative residual '//real_text(residual)//', tolerance '// &
+                                     real_text(model%tolerance)//'; largest out-of-balance '// &
+                                     'force at '//worst_node()//')', numerical_error)
+                    return
+                end if
+                ! The consistent tangent: the derivative of the midpoint stress update with
+                ! respect to the strain increment, by finite differences at each point.
+                call factorise_at(model, library, state, stress_mid, system, result, context, &
+                                  error, consistent_tangents(model, library, state, du), contact)
+                if (allocated(error)) return
+                block
+                    real(dp), allocatable :: ddu(:, :), du_try(:, :), stress_try(:, :, :)
+                    real(dp) :: step, trial
+                    integer :: halving
+                    call solve_out_of_balance(model, library, state, stress_end, f_target, &
+                                              0.0_dp*du_prescribed, system, ddu, result, &
+                                              context, error, contact, du)
+                    if (allocated(error)) return
+                    ! Backtracking line search: the E-B tangent has kinks (stress-level cap,
+                    ! sigma3 floor, Poisson bounds, unloading transition) where a full
+                    ! Newton step can overshoot; halve it while the residual grows. Not with
+                    ! contact: the multipliers belong to the full step.
+                    step = 1.0_dp
+                    do halving = 0, 6
+                        du_try = du + step*ddu
+                        call integrate_stress(model, library, state, du_try, stress_try, &
+                                              stress_mid, .true., creep_share=1.0_dp)
+                        trial = out_of_balance(model, library, state%active, stress_try, &
+                                               f_target, system%dofmap, contact)/load_norm
+                        if (trial < residual .or. state%has_contact) exit
+                        step = 0.5_dp*step
+                    end do
+                    du = du_try
+                    stress_end = stress_try
+                    residual = trial
+                end block
+                result%iterations = result%iterations + 1
+            end do
+        end if
+        if (.not. (residual < huge(1.0_dp))) then
+            call fatal_error(error, context//': the solution is not finite', numerical_error)
+            return
+        end if
+        state%u = state%u + du
+        state%stress = stress_end
+        state%f_ext = f_target
+        call accept_history(model, library, state, du)
+        if (state%has_contact) then
+            state%contact = contact
+            call contact_accept(state%contact, du)
+        end if
+        result%max_residual = max(result%max_residual, residual)
+    contains
+        function worst_node() result(text)
+            character(len=:), allocatable :: text
+            real(dp) :: norm
+            norm = out_of_balance(model, library, state%active, stress_end, f_target, &
+                                  system%dofmap, contact, text)
+        end function worst_node
+    end subroutine solve_increment
+
+    !> du = du_p + K^-1 (f_target - f_int(stress + D B du_p)) on the free dofs: the prescribed
+    !> increment du_p moves the fixed dofs, and the forces it causes (K_fp du_p, through the
+    !> tangent at `stress`) join the out-of-balance force. With contact the multipliers are
+    !> solved with du and the active set iterated (cfrd_active_set); `du_base` is the
+    !> increment already taken (Newton).
+    subroutine solve_out_of_balance(model, library, state, stress, f_target, du_p, system, &
+                                    du, result, context, error, contact, du_base)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        type(state_t), intent(in) :: state
+        real(dp), intent(in) :: stress(:, :, :), f_target(:, :), du_p(:, :)
+        type(system_t), intent(inout) :: system
+        real(dp), allocatable, intent(out) :: du(:, :)
+        type(stage_result_t), intent(inout) :: result
+        character(len=*), intent(in) :: context
+        type(error_t), allocatable, intent(out) :: error
+        type(contact_t), intent(inout), optional :: contact
+        real(dp), intent(in), optional :: du_base(:, :)
+        real(dp), allocatable :: f_int(:, :)
+        allocate (f_int(2, model%mesh%nnode))
+        if (any(du_p /= 0.0_dp)) then
+            call internal_forces(model, library, state%active, &
+                                 stress_after(model, library, state, stress, du_p), f_int)
+        else
+            call internal_forces(model, library, state%active, stress, f_int)
+        end if
+        call solve_system(model, f_target - f_int, du_p, system, du, result, context, error, &
+                          contact, du_base)
+    end subroutine solve_out_of_balance
+
+    !> Strain (or relative displacement) increments of element e for the nodal increment du,
+    !> zero-padded to (4, ngauss); ng: the element's integration points.
+    subroutine element_strains(model, library, e, du, strain, ng)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        integer, intent(in) :: e
+        real(dp), intent(in) :: du(:, :)
+        real(dp), intent(out) :: strain(4, ngauss)
+        integer, intent(out) :: ng
+        integer :: nn, nc
+        associate (element => library(model%mesh%kind(e))%element)
+            nn = element%nodes()
+            ng = element%gauss_points()
+            nc = element%components()
+            strain = 0.0_dp
+            call element%strains(model%mesh%x(:, model%mesh%conn(1:nn, e)), &
+                                 gather(model, e, nn, du), strain(1:nc, 1:ng))
+        end associate
+    end subroutine element_strains
+
+    !> Stresses after the displacement increment du from `stress` (the state's stresses
+    !> when absent): each point's law integrates its strain increment, with the tangent at
+    !> the midpoint when `midpoint` (docs/theory.md sections 9 and 12). `stress_mid`
+    !> returns the half-way stresses of that integration.
+    subroutine integrate_stress(model, library, state, du, stress_end, stress_mid, midpoint, &
+                                stress, creep_share)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        type(state_t), intent(in) :: state
+        real(dp), intent(in) :: du(:, :)
+        real(dp), allocatable, intent(out) :: stress_end(:, :, :), stress_mid(:, :, :)
+        logical, intent(in) :: midpoint
+        real(dp), intent(in), optional :: stress(:, :, :)
+        !> the share of the increment's creep in du (1 for the whole increment, 0.5 for its
+        !> half): the stresses the creep relaxes, D d_eps_c with the tangent at the start of
+        !> the increment, come off the law's update over du (the initial-strain method with
+        !> the load of the increment's solve, cfrd_creep_step)
+        real(dp), intent(in), optional :: creep_share
+        real(dp) :: strain(4, ngauss), start(4)
+        integer :: e, ng, ig
+        logical :: creeping
+        if (present(stress)) then
+            stress_end = stress
+        else
+            stress_end = state%stress
+        end if
+        stress_mid = stress_end
+        do e = 1, model%mesh%nelem
+            if (.not. state%active(e)) cycle
+            call element_strains(model, library, e, du, strain, ng)
+            ! With creep, half the relaxed stresses come off before the law's update and
+            ! half after: its midpoint tangent sits half-way along the stress path.
+            creeping = .false.
+            if (present(creep_share) .and. allocated(state%creep_stress)) creeping = .true.
+            do ig = 1, ng
+                start = stress_end(:, ig, e)
+                if (creeping) start = start - 0.5_dp*creep_share*state%creep_stress(:, ig, e)
+                call material_update(model%materials(model%mesh%material(e)), model%pa, &
+                                     start, state%strain(:, ig, e), &
+                                     state%history(:, ig, e), strain(:, ig), midpoint, &
+                                     stress_end(:, ig, e), stress_mid(:, ig, e))
+                if (creeping) stress_end(:, ig, e) = stress_end(:, ig, e) - &
+                                                     0.5_dp*creep_share* &
+                                                     state%creep_stress(:, ig, e)
+            end do
+        end do
+    end subroutine integrate_stress
+
+    !> stress + D(stress) B du (forward Euler) at every point of the active elements.
+    function stress_after(model, library, state, stress, du) result(stress_new)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        type(state_t), intent(in) :: state
+        real(dp), intent(in) :: stress(:, :, :), du(:, :)
+        real(dp), allocatable :: stress_new(:, :, :), stress_mid(:, :, :)
+        call integrate_stress(model, library, state, du, stress_new, stress_mid, .false., &
+                              stress)
+    end function stress_after
+
+    !> d sigma_end / d(delta eps) of the stress update at every point of the active elements
+    !> (cfrd_material_law: material_update_tangent), Newton's tangent.
+    function consistent_tangents(model, library, state, du) result(c)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        type(state_t), intent(in) :: state
+        real(dp), intent(in) :: du(:, :)
+        real(dp), allocatable :: c(:, :, :, :)
+        real(dp) :: strain(4, ngauss)
+        integer :: e, ng, ig
+        allocate (c(4, 4, ngauss, model%mesh%nelem), source=0.0_dp)
+        do e = 1, model%mesh%nelem
+            if (.not. state%active(e)) cycle
+            call element_strains(model, library, e, du, strain, ng)
+            do ig = 1, ng
+                call material_update_tangent(model%materials(model%mesh%material(e)), &
+                                             model%pa, state%stress(:, ig, e), &
+                                             state%strain(:, ig, e), state%history(:, ig, e), &
+                                             strain(:, ig), c(:, :, ig, e))
+            end do
+        end do
+    end function consistent_tangents
+
+    !> |f_target - f_int(stress)| over the free dofs.
+    function out_of_balance(model, library, active, stress, f_target, dofmap, contact, &
+                            worst) result(norm)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        logical, intent(in) :: active(:)
+        real(dp), intent(in) :: stress(:, :, :), f_target(:, :)
+        type(dof_map_t), intent(in) :: dofmap
+        type(contact_t), intent(in), optional :: contact
+        !> 'node N (fx, fy kN/m)': the node of the largest out-of-balance force
+        character(len=:), allocatable, intent(out), optional :: worst
+        real(dp) :: norm
+        real(dp), allocatable :: f_int(:, :), f_contact(:, :), r(:, :)
+        integer :: node
+        allocate (f_int(2, model%mesh%nnode))
+        call internal_forces(model, library, active, stress, f_int)
+        if (present(contact)) then
+            allocate (f_contact(2, model%mesh%nnode))
+            call contact_forces(contact, f_contact)
+            f_int = f_int - f_contact
+        end if
+        r = merge(f_target - f_int, 0.0_dp, dofmap%eq > 0)
+        norm = norm2(r)
+        if (present(worst)) then
+            node = maxloc(norm2(r, dim=1), dim=1)
+            worst = 'node '//to_text(node)//' ('//real_text(r(1, node))//', '// &
+                    real_text(r(2, node))//' kN/m)'
+        end if
+    end function out_of_balance
+
+    !> After an accepted increment du: total strains since placement, and the laws' history.
+    subroutine accept_history(model, library, state, du)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        type(state_t), intent(inout) :: state
+        real(dp), intent(in) :: du(:, :)
+        real(dp) :: strain(4, ngauss)
+        integer :: e, ig, ng
+        do e = 1, model%mesh%nelem
+            if (.not. state%active(e)) cycle
+            call element_strains(model, library, e, du, strain, ng)
+            state%strain(:, 1:ng, e) = state%strain(:, 1:ng, e) + strain(:, 1:ng)
+            do ig = 1, ng
+                call update_history(model%materials(model%mesh%material(e)), model%pa, &
+                                    state%stress(:, ig, e), state%history(:, ig, e))
+            end do
+        end do
+    end subroutine accept_history
+
+end module cfrd_increment

@@ -1,0 +1,236 @@
+!> The three parts of the stage driver on their own (issue 18): the linear system of an
+!> active set (cfrd_linear_system) against LAPACK's dense solve of the same matrix, one
+!> increment (cfrd_increment) of a plane-strain element in uniaxial compression against the
+!> closed form of elasticity, and the system solve with the contact active set
+!> (cfrd_active_set) against the statics of a block pressed on a foundation.
+module test_analysis_increment
+    use cfrd_kinds, only: dp
+    use cfrd_error, only: error_t
+    use cfrd_testing, only: unittest_t, new_unittest, check, fail
+    use cfrd_model, only: model_t, contact_pair_t, scheme_mortar
+    use cfrd_results, only: stage_result_t
+    use cfrd_material_law, only: nhistory
+    use cfrd_assembly, only: element_box_t, make_elements, assemble_tangent
+    use cfrd_contact, only: new_contact, contact_geometry
+    use cfrd_linear_system, only: system_t, new_system, factorise_values
+    use cfrd_stage_state, only: state_t, ngauss
+    use cfrd_increment, only: solve_increment
+    use cfrd_test_models, only: new_model, elastic_material
+    implicit none
+    private
+
+    public :: collect_analysis_increment
+
+    interface
+        subroutine dgesv(n, nrhs, a, lda, ipiv, b, ldb, info)
+            import :: dp
+            integer, intent(in) :: n, nrhs, lda, ldb
+            real(dp), intent(inout) :: a(lda, *), b(ldb, *)
+            integer, intent(out) :: ipiv(*), info
+        end subroutine dgesv
+    end interface
+
+    real(dp), parameter :: young = 3.0e4_dp, nu = 0.25_dp
+
+contains
+
+    subroutine collect_analysis_increment(tests)
+        type(unittest_t), allocatable, intent(out) :: tests(:)
+        tests = [ &
+                new_unittest('linear_system_against_dense_lapack', test_linear_system), &
+                new_unittest('increment_uniaxial_plane_strain', test_uniaxial), &
+                new_unittest('active_set_block_on_foundation', test_pressed_block) &
+                ]
+    end subroutine collect_analysis_increment
+
+    !> nx x ny unit quads over [x0, x0 + nx] x [y0, y0 + ny], nodes numbered from n0 + 1 row
+    !> by row.
+    subroutine grid(nx, ny, x0, y0, n0, x, conn)
+        integer, intent(in) :: nx, ny, n0
+        real(dp), intent(in) :: x0, y0
+        real(dp), allocatable, intent(out) :: x(:, :)
+        integer, allocatable, intent(out) :: conn(:, :)
+        integer :: i, j, e
+        allocate (x(2, (nx + 1)*(ny + 1)), conn(4, nx*ny))
+        do j = 0, ny
+            do i = 0, nx
+                x(:, j*(nx + 1) + i + 1) = [x0 + i, y0 + j]
+            end do
+        end do
+        e = 0
+        do j = 0, ny - 1
+            do i = 0, nx - 1
+                e = e + 1
+                conn(:, e) = n0 + [j*(nx + 1) + i + 1, j*(nx + 1) + i + 2, &
+                                   (j + 1)*(nx + 1) + i + 2, (j + 1)*(nx + 1) + i + 1]
+            end do
+        end do
+    end subroutine grid
+
+    !> A state at rest with every element active.
+    subroutine rest_state(model, state)
+        type(model_t), intent(in) :: model
+        type(state_t), intent(out) :: state
+        integer :: n, m
+        n = model%mesh%nnode
+        m = model%mesh%nelem
+        allocate (state%active(m), source=.true.)
+        allocate (state%u(2, n), state%u_before_reset(2, n), state%f_ext(2, n), source=0.0_dp)
+        allocate (state%stress(4, ngauss, m), state%strain(4, ngauss, m), source=0.0_dp)
+        allocate (state%history(nhistory, ngauss, m), source=0.0_dp)
+    end subroutine rest_state
+
+    !> The factorised tangent of a 3 x 2 elastic grid fixed at its base solves K x = b as
+    !> LAPACK's dgesv does on the same matrix written out dense (LU with partial pivoting).
+    subroutine test_linear_system(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(model_t) :: model
+        type(element_box_t), allocatable :: library(:)
+        type(state_t) :: state
+        type(system_t) :: system
+        type(stage_result_t) :: result
+        real(dp), allocatable :: x(:, :), dense(:, :), b(:), solution(:), reference(:)
+        integer, allocatable :: conn(:, :), ipiv(:)
+        integer :: n, j, p, info
+        call grid(3, 2, 0.0_dp, 0.0_dp, 0, x, conn)
+        call new_model(model, x, conn, [(1, j=1, 6)], [elastic_material(young, nu, 0.0_dp)])
+        model%fixed(:, 1:4) = .true.
+        call make_elements(model, library, error)
+        if (allocated(error)) return
+        call rest_state(model, state)
+        call new_system(model, library, state%active, system, error, state%contact, .false.)
+        if (allocated(error)) return
+        call assemble_tangent(model, library, state%active, system%pattern, state%stress, &
+                              state%strain, state%history, system%values)
+        call factorise_values(system, result, 'test', error)
+        if (allocated(error)) return
+        n = system%pattern%n
+        call check(error, n, 16, 'equations of the 8 free nodes')
+        if (allocated(error)) return
+        allocate (dense(n, n), source=0.0_dp)
+        do j = 1, n
+            do p = system%pattern%colptr(j) + 1, system%pattern%colptr(j + 1)
+                dense(system%pattern%rowind(p) + 1, j) = system%values(p)
+            end do
+        end do
+        allocate (b(n), solution(n), ipiv(n))
+        b = [(sin(1.7_dp*j) + 0.3_dp, j=1, n)]
+        call system%solver%solve(system%pattern, system%values, b, solution, error)
+        if (allocated(error)) return
+        reference = b
+        call dgesv(n, 1, dense, n, ipiv, reference, n, info)
+        call check(error, info, 0, 'dgesv')
+        if (allocated(error)) return
+        call check(error, maxval(abs(solution - reference)), 0.0_dp, &
+                   'UMFPACK against dense LU, max |x - x_lapack|', &
+                   abs=1.0e-12_dp*maxval(abs(reference)))
+        call system%solver%release()
+    end subroutine test_linear_system
+
+    !> One element, plane strain, on rollers (bottom free to slide, left edge free to move
+    !> vertically) under a uniform top pressure q: sigma_yy = -q, sigma_xx = 0,
+    !> sigma_zz = -nu q, eps_yy = -q (1 - nu^2)/E, eps_xx = q nu (1 + nu)/E: one increment,
+    !> whatever the scheme (a linear law), gives them to round-off.
+    subroutine test_uniaxial(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(model_t) :: model
+        type(element_box_t), allocatable :: library(:)
+        type(state_t) :: state
+        type(system_t) :: system
+        type(stage_result_t) :: result
+        real(dp), allocatable :: x(:, :), f(:, :), zero(:, :)
+        integer, allocatable :: conn(:, :)
+        real(dp), parameter :: q = 150.0_dp
+        integer :: ig
+        call grid(1, 1, 0.0_dp, 0.0_dp, 0, x, conn)
+        call new_model(model, x, conn, [1], [elastic_material(young, nu, 0.0_dp)])
+        model%fixed(:, 1) = .true.
+        model%fixed(2, 2) = .true.
+        model%fixed(1, 3) = .true.                  ! node 3 at (0, 1), node 4 at (1, 1)
+        call make_elements(model, library, error)
+        if (allocated(error)) return
+        call rest_state(model, state)
+        call new_system(model, library, state%active, system, error, state%contact, .false.)
+        if (allocated(error)) return
+        allocate (f(2, 4), zero(2, 4), source=0.0_dp)
+        f(2, 3:4) = -0.5_dp*q
+        call solve_increment(model, library, state, system, f, zero, result, 'test', error)
+        if (allocated(error)) return
+        call check(error, state%u(2, 4), -q*(1.0_dp - nu**2)/young, 'top settlement', &
+                   rel=1.0e-12_dp)
+        if (allocated(error)) return
+        call check(error, state%u(1, 4), q*nu*(1.0_dp + nu)/young, 'lateral spread', &
+                   rel=1.0e-12_dp)
+        if (allocated(error)) return
+        do ig = 1, 4
+            call check(error, state%stress(2, ig, 1), -q, 'sigma_yy', rel=1.0e-12_dp)
+            if (allocated(error)) return
+            call check(error, state%stress(1, ig, 1), 0.0_dp, 'sigma_xx', abs=1.0e-12_dp*q)
+            if (allocated(error)) return
+            call check(error, state%stress(3, ig, 1), -nu*q, 'sigma_zz', rel=1.0e-12_dp)
+            if (allocated(error)) return
+        end do
+        call system%solver%release()
+    end subroutine test_uniaxial
+
+    !> A 2 x 1 block (its own mesh, 2 x 1 quads) on a 3 x 1 foundation (3 x 1 quads, fixed
+    !> at its base; non-matching nodes), frictionless mortar contact, pressed by a uniform
+    !> pressure q on its top, both sides on vertical rollers so that the columns stay in
+    !> uniaxial strain: statics says the contact pressure is q at every slave node and the
+    !> block settles by the compression of both bodies, q h (1+nu)(1-2nu)/((1-nu) E) each.
+    subroutine test_pressed_block(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(model_t) :: model
+        type(element_box_t), allocatable :: library(:)
+        type(state_t) :: state
+        type(system_t) :: system
+        type(stage_result_t) :: result
+        real(dp), allocatable :: xb(:, :), xt(:, :), f(:, :), zero(:, :)
+        integer, allocatable :: cb(:, :), ct(:, :)
+        real(dp), parameter :: q = 200.0_dp, w = 3.0_dp
+        real(dp) :: settle
+        logical :: changed, searched
+        integer :: n
+        call grid(3, 1, 0.0_dp, 0.0_dp, 0, xb, cb)        ! nodes 1-8, top 5-8
+        call grid(2, 1, 0.0_dp, 1.0_dp, 8, xt, ct)        ! nodes 9-14, bottom 9-11
+        xt(1, :) = 1.5_dp*xt(1, :)                         ! the block spans [0, 3]
+        call new_model(model, reshape([xb, xt], [2, 14]), reshape([cb, ct], [4, 5]), &
+                       [1, 1, 1, 2, 2], [elastic_material(young, nu, 0.0_dp), &
+                                         elastic_material(young, nu, 0.0_dp)])
+        n = 14
+        model%fixed(:, 1:4) = .true.
+        model%fixed(1, [5, 8, 9, 11, 12, 14]) = .true.
+        allocate (model%slab_groups(0), model%gauges(0), model%wet_faces(0))
+        allocate (model%surfaces(2))
+        model%surfaces(1)%name = 'BLOCK'
+        model%surfaces(1)%element = [4, 5]
+        model%surfaces(1)%face = [1, 1]
+        model%surfaces(2)%name = 'FOUNDATION'
+        model%surfaces(2)%element = [1, 2, 3]
+        model%surfaces(2)%face = [3, 3, 3]
+        model%contact_pairs = [contact_pair_t(slave=1, master=2, friction=0.0_dp, &
+                                              scheme=scheme_mortar)]
+        call make_elements(model, library, error)
+        if (allocated(error)) return
+        call rest_state(model, state)
+        state%has_contact = .true.
+        call new_contact(model, state%contact)
+        call contact_geometry(model, state%active, state%contact, changed, searched)
+        call new_system(model, library, state%active, system, error, state%contact, .true.)
+        if (allocated(error)) return
+        allocate (f(2, n), zero(2, n), source=0.0_dp)
+        ! q on the block's top (nodes 12-14, edge lengths 1.5): 0.75 q, 1.5 q, 0.75 q
+        f(2, 12:14) = -q*[0.75_dp, 1.5_dp, 0.75_dp]
+        call solve_increment(model, library, state, system, f, zero, result, 'test', error)
+        if (allocated(error)) return
+        call check(error, maxval(abs(state%contact%p/q - 1.0_dp)), 0.0_dp, &
+                   'contact pressure / q at every slave node', abs=1.0e-9_dp)
+        if (allocated(error)) return
+        settle = 2.0_dp*q*(1.0_dp + nu)*(1.0_dp - 2.0_dp*nu)/((1.0_dp - nu)*young)
+        call check(error, state%u(2, 13), -settle, 'settlement of the block top', &
+                   rel=1.0e-9_dp)
+        if (allocated(error)) return
+        call check(error, count(state%contact%status /= 0), 3, 'slave nodes closed')
+        call system%solver%release()
+    end subroutine test_pressed_block
+end module test_analysis_increment
