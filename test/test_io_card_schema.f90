@@ -1,12 +1,15 @@
 !> The card schema against the card manual: every layout of cfrd_card_schema must appear as
 !> a field table of docs/cards.md (same fields in the same order, same columns, same name,
-!> format of the same kind and width), and every field table of the manual must be the
-!> layout of some card, so that the manual and the reader cannot drift apart. The reference
-!> is the manual itself, parsed here from its markdown tables.
+!> format of the same kind and width, and the same default and limits where the table has
+!> those columns), and every field table of the manual must be the layout of some card, so
+!> that the manual and the reader cannot drift apart. The reference is the manual itself,
+!> parsed here from its markdown tables.
 module test_io_card_schema
     use cfrd_error, only: error_t
     use cfrd_testing, only: unittest_t, new_unittest, fail
-    use cfrd_cards, only: field_t, int_field, real_field, text_field, upper, to_text
+    use cfrd_kinds, only: dp
+    use cfrd_cards, only: field_t, int_field, real_field, text_field, default_pa, upper, &
+                          to_text, is_real
     use cfrd_card_schema, only: card_schema_t, card_schemas
     implicit none
     private
@@ -16,12 +19,29 @@ module test_io_card_schema
     character(len=*), parameter :: manual = 'docs/cards.md'
 
     !> One row of a field table of the manual: its group section, card number (0 without a
-    !> `card` column), columns, format and name cells.
+    !> `card` column), columns, format and name cells, and the default and limits cells
+    !> (the `values` column of a table of words; blank when the table has no such column).
     type :: doc_row_t
         integer :: table = 0
-        character(len=:), allocatable :: group, columns, format, name
+        character(len=:), allocatable :: group, columns, format, name, default, limits
         integer :: card = 0
     end type doc_row_t
+
+    real(dp), parameter :: big = huge(1.0_dp)
+
+    !> Fields (`layout:FIELD`) whose default cell says what the schema cannot: a count of
+    !> CONTROL left blank is not checked (its value 0 means "not given"), and a blank L of
+    !> ELEMENTS repeats K (a triangle), which the ELEMENTS reader does.
+    character(len=*), parameter :: default_exceptions(4) = [character(len=24) :: &
+        'CONTROL:NNODE', 'CONTROL:NELEM', 'CONTROL:NMAT', 'ELEMENTS:L']
+    !> Fields whose limits in the schema differ from the manual's, on purpose: the counts
+    !> of CONTROL take 0 for blank ("not given"; the manual gives the limits of a count
+    !> that is given), and the reader has always held the open bounds of the manual and of
+    !> its messages ("0 <= N < 1", "0 < PHI0 < 90") as closed practical bounds (0.999, 89).
+    character(len=*), parameter :: limits_exceptions(8) = [character(len=28) :: &
+        'CONTROL:NNODE', 'CONTROL:NELEM', 'CONTROL:NMAT', 'MATERIALS EB card 2:N', &
+        'MATERIALS EB card 2:M', 'MATERIALS EB card 3:PHI0', 'MATERIALS GOODMAN card 2:N1', &
+        'MATERIALS GOODMAN card 2:PHI']
 
 contains
 
@@ -30,7 +50,9 @@ contains
         tests = [ &
                 new_unittest('layouts_in_column_order', test_layouts_in_order), &
                 new_unittest('every_layout_in_the_manual', test_layouts_documented), &
-                new_unittest('every_manual_table_a_layout', test_tables_are_layouts) &
+                new_unittest('every_manual_table_a_layout', test_tables_are_layouts), &
+                new_unittest('defaults_and_limits_as_in_the_manual', &
+                             test_defaults_and_limits) &
                 ]
     end subroutine collect_io_card_schema
 
@@ -120,6 +142,322 @@ contains
             end if
         end do
     end subroutine test_tables_are_layouts
+
+    !> The default and the limits of each field, where its table has those columns, are
+    !> the schema's: 'required' for a field that must not be blank, the default's number,
+    !> word or field ('N1', '2 K', '0.1 PA'), the bounds ('> 0', '0 <= NU < 0.5', '1..4',
+    !> '0, 1', 'magnitude <= 1e7') and the words. Parentheses in a cell are comments;
+    !> a cell of words about other cards ('existing node', 'N1 .. NNODE') is the group
+    !> reader's check, not the schema's, and is left out, as are the fields listed above.
+    subroutine test_defaults_and_limits(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(card_schema_t), allocatable :: cards(:)
+        type(doc_row_t), allocatable :: rows(:)
+        character(len=:), allocatable :: why, key
+        integer :: c, r, t, k
+        call read_manual(rows, error)
+        if (allocated(error)) return
+        cards = card_schemas()
+        do c = 1, size(cards)
+            t = 0
+            do r = 1, size(rows)
+                if (rows(r)%group /= cards(c)%group) cycle
+                if (table_matches(cards(c), rows, rows(r)%table, why)) then
+                    t = rows(r)%table
+                    exit
+                end if
+            end do
+            if (t == 0) then
+                call fail(error, cards(c)%name//': no table in '//manual)
+                return
+            end if
+            k = 0
+            do r = 1, size(rows)
+                if (rows(r)%table /= t .or. rows(r)%card /= cards(c)%card) cycle
+                k = k + 1
+                key = cards(c)%name//':'//trim(cards(c)%fields(k)%name)
+                if (.not. any(default_exceptions == key)) then
+                    if (.not. default_matches(cards(c)%fields, k, rows(r)%default, why)) then
+                        call fail(error, key//' default: '//why)
+                        return
+                    end if
+                end if
+                if (.not. any(limits_exceptions == key)) then
+                    if (.not. limits_match(cards(c)%fields(k), rows(r)%limits, why)) then
+                        call fail(error, key//' limits: '//why)
+                        return
+                    end if
+                end if
+            end do
+        end do
+    end subroutine test_defaults_and_limits
+
+    !> The default cell of field k: 'required', a number, a word of the field, or a field
+    !> with its factor ('2 K', '0.1 PA'). A blank field whose value fails the field's own
+    !> check is required; so may be a field the schema leaves to its group reader.
+    logical function default_matches(fields, k, doc_cell, why) result(ok)
+        type(field_t), intent(in) :: fields(:)
+        integer, intent(in) :: k
+        character(len=*), intent(in) :: doc_cell
+        character(len=:), allocatable, intent(out) :: why
+        character(len=:), allocatable :: cell, want, name
+        character(len=:), allocatable :: words(:)
+        real(dp) :: x, scale
+        ok = .true.
+        cell = plain(doc_cell)
+        if (len(cell) == 0) return
+        ! a condition on other fields, checked by the group reader
+        if (index(cell, 'required if ') == 1) return
+        associate (f => fields(k))
+            if (f%required) then
+                want = 'required'
+            else if (f%default_from /= 0) then
+                if (f%default_from > 0) then
+                    name = trim(fields(f%default_from)%name)
+                else if (f%default_from == default_pa) then
+                    name = 'PA'
+                end if
+                want = name
+                if (f%default_scale /= 1.0_dp) want = real_text(f%default_scale)//' '//name
+                words = tokens(cell)
+                scale = 1.0_dp
+                if (size(words) == 2) then
+                    if (is_real(trim(words(1)))) read (words(1), *) scale
+                end if
+                if (trim(words(size(words))) == name .and. scale == f%default_scale .and. &
+                    size(words) <= 2) return
+            else if (f%kind == text_field .and. len_trim(f%words) > 0) then
+                want = 'required'
+                if (f%default > 0.0_dp) then
+                    words = tokens(f%words)
+                    want = trim(words(nint(f%default)))
+                end if
+            else if (f%kind == text_field) then
+                return   ! a text without words: its blank meaning is the reader's
+            else if (len_trim(f%expected) > 0 .and. .not. inside(f, f%default)) then
+                want = 'required'
+            else
+                want = real_text(f%default)
+                if (cell == 'required' .and. len_trim(f%expected) == 0) return
+                if (is_real(cell)) then
+                    read (cell, *) x
+                    if (x == f%default) return
+                end if
+            end if
+            if (cell == want) return
+            ok = .false.
+            why = 'the manual says '''//cell//''', the schema '''//want//''''
+        end associate
+    end function default_matches
+
+    !> The limits cell of a field the schema checks: its words, or its bounds.
+    logical function limits_match(field, doc_cell, why) result(ok)
+        type(field_t), intent(in) :: field
+        character(len=*), intent(in) :: doc_cell
+        character(len=:), allocatable, intent(out) :: why
+        character(len=:), allocatable :: cell, want, got
+        real(dp) :: lo, hi, schema_lo
+        logical :: lo_open, hi_open, schema_lo_open, read_ok
+        ok = .true.
+        cell = plain(doc_cell)
+        if (len(cell) == 0 .or. len_trim(field%expected) == 0) return
+        if (field%kind == text_field) then
+            if (len_trim(field%words) == 0) return
+            want = joined(tokens(field%words))
+            got = joined(tokens(list_of(cell)))
+            if (got == want) return
+            ok = .false.
+            why = 'the manual gives the words '//got//', the schema '//want
+            return
+        end if
+        call read_bounds(cell, lo, lo_open, hi, hi_open, read_ok)
+        if (.not. read_ok) then
+            ok = .false.
+            why = 'the manual''s limits '''//cell//''' cannot be read as bounds'
+            return
+        end if
+        ! the smallest positive real, closed, is "> 0"
+        schema_lo = field%lo
+        schema_lo_open = field%lo_open
+        if (schema_lo == tiny(1.0_dp) .and. .not. schema_lo_open) then
+            schema_lo = 0.0_dp
+            schema_lo_open = .true.
+        end if
+        ok = lo == schema_lo .and. hi == field%hi .and. &
+             ((lo_open .eqv. schema_lo_open) .or. lo == -big) .and. &
+             ((hi_open .eqv. field%hi_open) .or. hi == big)
+        if (ok) return
+        why = 'the manual says '''//cell//''' ('//bounds_text(lo, lo_open, hi, hi_open)// &
+              '), the schema '//bounds_text(schema_lo, schema_lo_open, field%hi, field%hi_open)
+    end function limits_match
+
+    !> Bounds from '> a', '>= a', '< b', '<= b', 'a < X <= b' (any of < and <=), 'a..b',
+    !> 'a, b, c' or 'a or b' (consecutive integers), 'magnitude <= m'.
+    subroutine read_bounds(cell, lo, lo_open, hi, hi_open, ok)
+        character(len=*), intent(in) :: cell
+        real(dp), intent(out) :: lo, hi
+        logical, intent(out) :: lo_open, hi_open, ok
+        character(len=:), allocatable :: words(:)
+        real(dp), allocatable :: x(:)
+        integer :: i, dots
+        lo = -big
+        hi = big
+        lo_open = .false.
+        hi_open = .false.
+        ok = .false.
+        dots = index(cell, '..')
+        if (dots > 0) then
+            words = [character(len=len(cell)) :: cell(1:dots - 1), cell(dots + 2:)]
+        else
+            words = tokens(cell)
+        end if
+        if (size(words) == 2 .and. dots == 0 .and. any(trim(words(1)) == ['> ', '>=', '< ', &
+                                                                          '<='])) then
+            if (.not. is_real(trim(words(2)))) return
+            select case (trim(words(1)))
+            case ('>')
+                read (words(2), *) lo
+                lo_open = .true.
+            case ('>=')
+                read (words(2), *) lo
+            case ('<')
+                read (words(2), *) hi
+                hi_open = .true.
+            case default
+                read (words(2), *) hi
+            end select
+            ok = .true.
+        else if (size(words) == 3 .and. trim(words(1)) == 'magnitude' .and. &
+                 trim(words(2)) == '<=') then
+            if (.not. is_real(trim(words(3)))) return
+            read (words(3), *) hi
+            lo = -hi
+            ok = .true.
+        else if (size(words) == 5) then
+            if (.not. (is_real(trim(words(1))) .and. is_real(trim(words(5))))) return
+            if (.not. (any(trim(words(2)) == ['< ', '<=']) .and. &
+                       any(trim(words(4)) == ['< ', '<=']))) return
+            read (words(1), *) lo
+            read (words(5), *) hi
+            lo_open = trim(words(2)) == '<'
+            hi_open = trim(words(4)) == '<'
+            ok = .true.
+        else
+            if (dots == 0) words = tokens(list_of(cell))
+            if (size(words) < 2) return
+            if (.not. all([(is_real(trim(words(i))), i=1, size(words))])) return
+            allocate (x(size(words)))
+            do i = 1, size(words)
+                read (words(i), *) x(i)
+            end do
+            if (dots == 0) then
+                if (any(x(2:) - x(:size(x) - 1) /= 1.0_dp)) return
+            end if
+            lo = x(1)
+            hi = x(size(x))
+            ok = .true.
+        end if
+    end subroutine read_bounds
+
+    !> A cell without backquotes, comments in parentheses and what follows ', ' and a
+    !> word ('>= 1, divides N2 - N1': a check on other fields).
+    function plain(cell) result(text)
+        character(len=*), intent(in) :: cell
+        character(len=:), allocatable :: text
+        integer :: i, depth
+        text = ''
+        depth = 0
+        do i = 1, len_trim(cell)
+            if (cell(i:i) == '(') depth = depth + 1
+            if (depth == 0 .and. cell(i:i) /= '`') text = text//cell(i:i)
+            if (cell(i:i) == ')') depth = max(depth - 1, 0)
+        end do
+        do i = 1, len(text) - 2
+            if (text(i:i + 1) == ', ' .and. index('abcdefghijklmnopqrstuvwxyz', &
+                                                  text(i + 2:i + 2)) > 0) then
+                text = text(1:i - 1)
+                exit
+            end if
+        end do
+        text = trim(adjustl(text))
+    end function plain
+
+    !> A list 'a, b or c' as words separated by blanks.
+    function list_of(cell) result(text)
+        character(len=*), intent(in) :: cell
+        character(len=:), allocatable :: text
+        integer :: i
+        text = ' '//cell//' '
+        do i = 1, len(text)
+            if (text(i:i) == ',') text(i:i) = ' '
+        end do
+        i = index(text, ' or ')
+        do while (i > 0)
+            text = text(1:i)//text(i + 4:)
+            i = index(text, ' or ')
+        end do
+    end function list_of
+
+    !> The blank-separated words of a text.
+    function tokens(text) result(words)
+        character(len=*), intent(in) :: text
+        character(len=:), allocatable :: words(:)
+        integer :: i, start
+        allocate (character(len=max(len(text), 1)) :: words(0))
+        i = 1
+        do while (i <= len(text))
+            if (text(i:i) == ' ') then
+                i = i + 1
+                cycle
+            end if
+            start = i
+            do while (i <= len(text))
+                if (text(i:i) == ' ') exit
+                i = i + 1
+            end do
+            words = [character(len=max(len(text), 1)) :: words, text(start:i - 1)]
+        end do
+    end function tokens
+
+    function joined(words) result(text)
+        character(len=*), intent(in) :: words(:)
+        character(len=:), allocatable :: text
+        integer :: i
+        text = ''
+        do i = 1, size(words)
+            text = text//trim(words(i))
+            if (i < size(words)) text = text//' '
+        end do
+    end function joined
+
+    !> The value passes the field's bounds.
+    pure logical function inside(field, x)
+        type(field_t), intent(in) :: field
+        real(dp), intent(in) :: x
+        inside = (x > field%lo .or. (x == field%lo .and. .not. field%lo_open)) .and. &
+                 (x < field%hi .or. (x == field%hi .and. .not. field%hi_open))
+    end function inside
+
+    function real_text(x) result(text)
+        real(dp), intent(in) :: x
+        character(len=:), allocatable :: text
+        character(len=32) :: buffer
+        if (abs(x) < 1.0e9_dp .and. x == aint(x)) then
+            text = to_text(nint(x))
+            return
+        end if
+        write (buffer, '(es12.5)') x
+        text = trim(adjustl(buffer))
+    end function real_text
+
+    function bounds_text(lo, lo_open, hi, hi_open) result(text)
+        real(dp), intent(in) :: lo, hi
+        logical, intent(in) :: lo_open, hi_open
+        character(len=:), allocatable :: text
+        text = 'x'
+        if (lo > -big) text = real_text(lo)//trim(merge(' < ', ' <=', lo_open))//' '//text
+        if (hi < big) text = text//trim(merge(' < ', ' <=', hi_open))//' '//real_text(hi)
+    end function bounds_text
 
     !> The card's layout is some table of its group; `why` tells the closest miss (the
     !> table with the most fields matched).
@@ -262,7 +600,7 @@ contains
         type(error_t), allocatable, intent(out) :: error
         character(len=:), allocatable :: lines(:), cells(:)
         character(len=:), allocatable :: group
-        integer :: i, ntable, c_columns, c_format, c_name, c_card
+        integer :: i, ntable, c_columns, c_format, c_name, c_card, c_default, c_limits
         type(doc_row_t) :: row
         call read_lines(manual, lines, error)
         if (allocated(error)) return
@@ -281,6 +619,9 @@ contains
                 c_format = cell_index(cells, 'format')
                 c_name = cell_index(cells, 'name')
                 c_card = cell_index(cells, 'card')
+                c_default = cell_index(cells, 'default')
+                c_limits = cell_index(cells, 'limits')
+                if (c_limits == 0) c_limits = cell_index(cells, 'values')
                 i = i + 2
                 if (c_columns == 0 .or. c_name == 0 .or. c_format == 0) cycle
                 ntable = ntable + 1
@@ -292,6 +633,10 @@ contains
                     row%columns = trim(cells(c_columns))
                     row%format = trim(cells(c_format))
                     row%name = trim(cells(c_name))
+                    row%default = ''
+                    if (c_default > 0) row%default = trim(cells(c_default))
+                    row%limits = ''
+                    if (c_limits > 0) row%limits = trim(cells(c_limits))
                     row%card = 0
                     if (c_card > 0) read (cells(c_card), *) row%card
                     rows = [rows, row]
