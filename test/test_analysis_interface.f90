@@ -16,6 +16,7 @@ module test_analysis_interface
     use cfrd_interface, only: interface_stations, phase_openings, open_gap, slab_stresses
     use cfrd_results, only: interface_result_t, opening_t, slab_result_t
     use cfrd_test_models, only: new_model, elastic_material, edge_traction
+    use cfrd_goodman, only: goodman_params_t, goodman_update, goodman_update_tangent
     implicit none
     private
 
@@ -31,6 +32,8 @@ contains
                 new_unittest('joint_patch_gauss', test_patch_gauss), &
                 new_unittest('joint_patch_lobatto', test_patch_lobatto), &
                 new_unittest('coulomb_limit', test_coulomb), &
+                new_unittest('joint_consistent_tangent', test_joint_tangent), &
+                new_unittest('joint_newton_quadratic', test_joint_newton), &
                 new_unittest('stiff_joint_oscillation', test_oscillation), &
                 new_unittest('stiff_joint_notch_oscillation', test_notch_oscillation), &
                 new_unittest('thin_layer_tends_to_joint', test_thin_to_joint), &
@@ -250,6 +253,116 @@ contains
             end associate
         end do
     end subroutine test_coulomb
+
+    !> Newton's tangent of a joint (goodman_update_tangent) against central differences of
+    !> the joint's update (goodman_update) with respect to the relative displacement
+    !> increment, in every branch of the law (Table 4's parameters, Rf1 = 0.9): closed and
+    !> loading; a slip against the shear stress, unloading only and past zero; the Coulomb cap
+    !> reached within the increment (d tau / d du_n = -tan(phi) kn); Rf1 = 0 (no hyperbola);
+    !> an open joint (kn_t; no shear, floored). Tolerance 1e-6 of the largest entry (the
+    !> differences' truncation with a step 1e-4 of the increment is about 1e-8).
+    subroutine test_joint_tangent(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(goodman_params_t) :: p
+        integer, parameter :: ncase = 7
+        real(dp), parameter :: s0(2, ncase) = reshape([-200.0_dp, 50.0_dp, -200.0_dp, 50.0_dp, &
+                                                       -200.0_dp, 50.0_dp, -200.0_dp, 90.0_dp, &
+                                                       -200.0_dp, 30.0_dp, -300.0_dp, -40.0_dp, &
+                                                       20.0_dp, 0.0_dp], [2, ncase])
+        real(dp), parameter :: un0(ncase) = [-2.0e-5_dp, -2.0e-5_dp, -2.0e-5_dp, -2.0e-5_dp, &
+                                             -2.0e-5_dp, -3.0e-5_dp, 2.0e-3_dp]
+        real(dp), parameter :: de0(2, ncase) = reshape([-1.0e-5_dp, 2.0e-3_dp, &
+                                                        -1.0e-5_dp, -1.0e-4_dp, &
+                                                        -1.0e-5_dp, -8.0e-2_dp, &
+                                                        1.5e-5_dp, 3.0e-1_dp, &
+                                                        -1.0e-5_dp, 5.0e-3_dp, &
+                                                        -2.0e-5_dp, -1.0e-3_dp, &
+                                                        1.0e-4_dp, 1.0e-3_dp], [2, ncase])
+        character(len=*), parameter :: names(ncase) = [character(len=24) :: 'closed, loading', &
+            'reversal', 'reversal past zero', 'Coulomb cap', 'Rf1 = 0', 'negative shear', 'open']
+        real(dp) :: c(2, 2), fd(2, 2), plus(2), minus(2), mid(2), de(2), h, scale
+        integer :: k, j
+        p = goodman_params_t(kn_compression=1.0e7_dp, kn_tension=1.0e4_dp, k1=1000.0_dp, &
+                             n1=0.3_dp, rf1=0.9_dp, phi=30.0_dp)
+        do k = 1, ncase
+            p%rf1 = merge(0.0_dp, 0.9_dp, k == 5)
+            call goodman_update_tangent(p, s0(:, k), un0(k), de0(:, k), c)
+            do j = 1, 2
+                h = 1.0e-4_dp*abs(de0(j, k))
+                de = de0(:, k)
+                de(j) = de(j) + h
+                call goodman_update(p, s0(:, k), un0(k), de, .true., plus, mid)
+                de(j) = de(j) - 2.0_dp*h
+                call goodman_update(p, s0(:, k), un0(k), de, .true., minus, mid)
+                fd(:, j) = (plus - minus)/(2.0_dp*h)
+            end do
+            if (k == 4) then
+                call check(error, abs(fd(2, 1) + tan(30.0_dp*deg)*1.0e7_dp) < 1.0_dp, &
+                           'the cap case is not at the cap')
+                if (allocated(error)) return
+            end if
+            if (k == 7) then
+                ! Open: no shear stress whatever the slip; the tangent floors it at 1e-4 ks_i.
+                call check(error, all(abs(fd(2, :)) == 0.0_dp) .and. c(2, 2) > 0.0_dp .and. &
+                           c(2, 2) <= 1.0e-4_dp*1000.0_dp*9.81_dp .and. c(2, 1) == 0.0_dp, &
+                           'open joint: shear tangent not the floor')
+                if (allocated(error)) return
+                fd(2, 2) = c(2, 2)
+            end if
+            scale = maxval(abs(fd))
+            call check(error, maxval(abs(c - fd)) <= 1.0e-6_dp*scale, &
+                       'joint tangent, '//trim(names(k))//': analytic and central '// &
+                       'differences differ')
+            if (allocated(error)) return
+        end do
+    end subroutine test_joint_tangent
+
+    !> Newton's rate on a joint that slips and compresses at once: a block pressed and dragged
+    !> over a joint, in one increment to the Coulomb region of the hyperbola (Rf1 = 0.9,
+    !> normal load and drag together, so that d tau / d du_n matters). Reference: the
+    !> statics, the residual against the load; with the consistent tangent Newton reaches
+    !> 1e-13 in one increment (7 iterations, residuals 2.2e-4, 1.6e-6, 7.8e-11, 3.6e-15 at the
+    !> end: quadratic), where the material tangent of the end state contracted by 1/8 per
+    !> iteration (28 cutbacks, 501 iterations).
+    subroutine test_joint_newton(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(model_t) :: model
+        type(results_t) :: results
+        type(material_t) :: joint
+        integer, parameter :: nx = 4, ny = 1
+        integer :: nb, i
+        joint = linear_joint(1.0e7_dp, 0.0_dp)
+        joint%k1 = 1000.0_dp
+        joint%n1 = 0.3_dp
+        joint%rf1 = 0.9_dp
+        joint%phi = 30.0_dp
+        call two_blocks(model, nx, ny, 4.0_dp, 1.0_dp, 1.0_dp, 0.0_dp, elem_joint_lobatto, &
+                        elastic_material(1.0e5_dp, 0.2_dp, 0.0_dp), joint, 0.0_dp)
+        model%pa = 101.325_dp
+        model%solver = solver_newton
+        model%tolerance = 1.0e-13_dp
+        model%max_iterations = 10
+        nb = (nx + 1)*(ny + 1)
+        model%fixed(:, 1:nb) = .true.
+        deallocate (model%load_sets)
+        allocate (model%load_sets(1))
+        allocate (model%load_sets(1)%nodal_force(2, model%mesh%nnode), source=0.0_dp)
+        allocate (model%load_sets(1)%gravity(0))
+        ! 100 kPa normal and 0.5 tan(30 deg) of it in shear on the top face (4 m wide)
+        model%load_sets(1)%pressures = [(pressure_load_t(element=2*nx*ny - nx + i, &
+                                         face=3, p1=100.0_dp, p2=100.0_dp), i=1, nx)]
+        model%load_sets(1)%nodal_force(1, model%mesh%nnode - nx:model%mesh%nnode) = &
+            0.5_dp*100.0_dp*tan(30.0_dp*deg)*4.0_dp/real(nx, dp)* &
+            [0.5_dp, (1.0_dp, i=1, nx - 1), 0.5_dp]
+        model%stages = [stage_t(kind=stage_load, load_set=1, increments=1, label='PUSH')]
+        call run_analysis(model, results, error)
+        if (allocated(error)) return
+        associate (r => results%stages(1))
+            call check(error, r%max_residual <= 1.0e-13_dp .and. r%cutbacks == 0 .and. &
+                       r%iterations <= 10, 'Newton did not reach 1e-13 in 10 iterations '// &
+                       'with the consistent tangent')
+        end associate
+    end subroutine test_joint_newton
 
     !> Stations of the joint line in order along it, positions s and normal tractions y:
     !> both Gauss points of every element; Newton-Cotes stations, which sit on the nodes

@@ -269,12 +269,9 @@ def run_suite(cfrd, workdir):
         subprocess.run([sys.executable, gen, "--interface", method, "--deck", deck], check=True)
         decks.append((deck, [], f"tianshengqiao-x1-{method}.dat"))
         runs.append((deck, ["--label", f"tsq-{method}"]))
-        # The Newton variant: equilibrium with the thin layer, and with the slab in contact
-        # (the contact forces pass the slab's weight and the water on it to the body), at
-        # every stage. (With joints, Newton to 1e-10 stalls at stage 16 on the floored
-        # tangents: issue 6 note.)
-        if method == "joint":
-            continue
+        # The Newton variant: equilibrium with the joints (their consistent tangent, issue
+        # 20), the thin layer, and the slab in contact (the contact forces pass the slab's
+        # weight and the water on it to the body), at every stage.
         deck = os.path.join(workdir, f"tianshengqiao-x1-{method}-newton.dat")
         subprocess.run([sys.executable, gen, "--interface", method, "--solver", "newton",
                         "--deck", deck], check=True)

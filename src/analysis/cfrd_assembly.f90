@@ -240,15 +240,18 @@ contains
     end subroutine assemble_tangent
 
     !> Internal forces (2, nnode) of the active elements at the given stresses.
-    subroutine internal_forces(model, library, active, stress, force)
+    subroutine internal_forces(model, library, active, stress, force, magnitude)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         logical, intent(in) :: active(:)
         real(dp), intent(in) :: stress(:, :, :)
         real(dp), intent(out) :: force(:, :)
+        !> The same sums of the elements' |forces|: the scale of the round-off in `force`
+        real(dp), intent(out), optional :: magnitude(:, :)
         real(dp) :: fe(16)
         integer :: e, nn, ng, nc
         force = 0.0_dp
+        if (present(magnitude)) magnitude = 0.0_dp
         associate (mesh => model%mesh)
             do e = 1, mesh%nelem
                 if (.not. active(e)) cycle
@@ -259,6 +262,8 @@ contains
                     call element%internal_force(mesh%x(:, mesh%conn(1:nn, e)), &
                                                 stress(1:nc, 1:ng, e), fe(1:2*nn))
                     call scatter_add(model, e, nn, fe(1:2*nn), force)
+                    if (present(magnitude)) &
+                        call scatter_add(model, e, nn, abs(fe(1:2*nn)), magnitude)
                 end associate
             end do
         end associate

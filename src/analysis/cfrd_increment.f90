@@ -104,7 +104,7 @@ contains
         character(len=*), intent(in) :: context
         type(error_t), allocatable, intent(out) :: error
         real(dp), allocatable :: du(:, :), stress_end(:, :, :), stress_mid(:, :, :)
-        real(dp) :: residual, load_norm, recent, t0
+        real(dp) :: residual, load_norm, recent, t0, floor
         real(dp), allocatable :: rhs_stress(:, :, :)
         integer :: iteration
         type(contact_t), allocatable :: contact
@@ -158,11 +158,14 @@ contains
                                   creep_share=1.0_dp)
         end if
         residual = out_of_balance(model, library, state%active, stress_end, f_target, &
-                                  system%dofmap, contact)/load_norm
+                                  system%dofmap, contact, roundoff=floor)/load_norm
         if (model%solver == solver_newton) then
             iteration = 0
             recent = huge(1.0_dp)
-            do while (residual > model%tolerance)
+            ! Converged when the residual relative to the whole model's load is below TOL, or
+            ! below what floating point resolves in the assembled forces (docs/theory.md
+            ! section 9.3): a TOL under round-off cannot stall the iterations.
+            do while (residual > max(model%tolerance, floor/load_norm))
                 iteration = iteration + 1
                 ! A stall (the residual not halved over the last four iterations) ends the
                 ! iterations early, so that a cutback can be tried without waste.
@@ -210,7 +213,8 @@ contains
                         call integrate_stress(model, library, state, du_try, stress_try, &
                                               stress_mid, .true., creep_share=1.0_dp)
                         trial = out_of_balance(model, library, state%active, stress_try, &
-                                               f_target, system%dofmap, contact)/load_norm
+                                               f_target, system%dofmap, contact, &
+                                               roundoff=floor)/load_norm
                         if (trial < residual .or. state%has_contact) exit
                         step = 0.5_dp*step
                     end do
@@ -375,9 +379,11 @@ contains
         end do
     end function consistent_tangents
 
-    !> |f_target - f_int(stress)| over the free dofs.
+    !> |f_target - f_int(stress)| over the free dofs; `roundoff`, the residual that floating
+    !> point cannot resolve: 64 eps |sum of the magnitudes of the terms| (the forces of the
+    !> elements, the contact and the loads that meet at each free dof).
     function out_of_balance(model, library, active, stress, f_target, dofmap, contact, &
-                            worst) result(norm)
+                            worst, roundoff) result(norm)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         logical, intent(in) :: active(:)
@@ -386,18 +392,23 @@ contains
         type(contact_t), intent(in), optional :: contact
         !> 'node N (fx, fy kN/m)': the node of the largest out-of-balance force
         character(len=:), allocatable, intent(out), optional :: worst
+        real(dp), intent(out), optional :: roundoff
         real(dp) :: norm
-        real(dp), allocatable :: f_int(:, :), f_contact(:, :), r(:, :)
+        real(dp), allocatable :: f_int(:, :), f_contact(:, :), r(:, :), magnitude(:, :)
         integer :: node
-        allocate (f_int(2, model%mesh%nnode))
-        call internal_forces(model, library, active, stress, f_int)
+        allocate (f_int(2, model%mesh%nnode), magnitude(2, model%mesh%nnode))
+        call internal_forces(model, library, active, stress, f_int, magnitude)
+        magnitude = magnitude + abs(f_target)
         if (present(contact)) then
             allocate (f_contact(2, model%mesh%nnode))
             call contact_forces(contact, f_contact)
             f_int = f_int - f_contact
+            magnitude = magnitude + abs(f_contact)
         end if
         r = merge(f_target - f_int, 0.0_dp, dofmap%eq > 0)
         norm = norm2(r)
+        if (present(roundoff)) &
+            roundoff = 64.0_dp*epsilon(1.0_dp)*norm2(merge(magnitude, 0.0_dp, dofmap%eq > 0))
         if (present(worst)) then
             node = maxloc(norm2(r, dim=1), dim=1)
             worst = 'node '//to_text(node)//' ('//real_text(r(1, node))//', '// &

@@ -9,7 +9,8 @@ module cfrd_material_law
     use cfrd_model, only: material_t, law_elastic, law_duncan_eb, law_goodman
     use cfrd_elastic, only: elastic_dmatrix
     use cfrd_duncan_eb, only: eb_params_t, eb_tangent, eb_stress_state, eb_state_t
-    use cfrd_goodman, only: goodman_params_t, goodman_tangent, goodman_update
+    use cfrd_goodman, only: goodman_params_t, goodman_tangent, goodman_update, &
+                            goodman_update_tangent
     implicit none
     private
 
@@ -96,19 +97,21 @@ contains
     !> d stress_new / d de of the midpoint update: the tangent that makes Newton's
     !> iterations converge fast on the E-B law, whose tangent changes along an increment,
     !> by forward differences (step sqrt(eps) of the increment); not symmetric in general.
-    !> The Goodman law, whose update is exact, returns its tangent at the end state, whose
-    !> floors keep the matrix regular where a joint slips or opens.
+    !> The Goodman law differentiates its exact update analytically (goodman_update_tangent),
+    !> with floors that keep the matrix regular where a joint slips or opens.
     pure subroutine material_update_tangent(mat, pa, stress, strain, history, de, c)
         type(material_t), intent(in) :: mat
         real(dp), intent(in) :: pa, stress(4), strain(4), history(nhistory), de(4)
         real(dp), intent(out) :: c(4, 4)
         real(dp) :: base(4), mid(4), shifted(4), h, dd(4)
         integer :: j
-        call material_update(mat, pa, stress, strain, history, de, .true., base, mid)
         if (mat%law == law_goodman) then
-            call material_tangent(mat, pa, base, strain + de, history, c)
+            c = 0.0_dp
+            call goodman_update_tangent(goodman_parameters(mat, pa), stress(1:2), strain(1), &
+                                        de(1:2), c(1:2, 1:2))
             return
         end if
+        call material_update(mat, pa, stress, strain, history, de, .true., base, mid)
         h = 1.5e-8_dp*max(maxval(abs(de)), 1.0e-9_dp)
         do j = 1, 4
             dd = de

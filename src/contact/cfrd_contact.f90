@@ -52,6 +52,10 @@ module cfrd_contact
         real(dp), allocatable :: gap(:)            !! (nc) m, gap at the last accepted state
         real(dp), allocatable :: slip(:)           !! (nc) m, accumulated slip along t
         real(dp), allocatable :: u(:, :)           !! (2, nnode) m since placement, never reset
+        !> (nnode) the search at which a master node was first active (0: not yet): RPIM
+        !> curves run only through nodes placed together (chain_master_segments)
+        integer, allocatable :: birth(:)
+        integer :: searches = 0                    !! searches made (accepted increments)
         ! Geometry of the current increment (contact_geometry)
         logical, allocatable :: supported(:)       !! (nc) coupled to the master surface
         real(dp), allocatable :: normal(:, :)      !! (2, nc) outward normal of the slave
@@ -119,6 +123,7 @@ contains
         allocate (contact%p(nc), contact%q(nc), contact%g0(nc), contact%gap(nc), &
                   contact%slip(nc), source=0.0_dp)
         allocate (contact%u(2, model%mesh%nnode), source=0.0_dp)
+        allocate (contact%birth(model%mesh%nnode), source=0)
         allocate (contact%supported(nc), source=.false.)
         allocate (contact%normal(2, nc), contact%tangent(2, nc), source=0.0_dp)
         allocate (contact%w(nc), contact%wref(nc), contact%g(nc), source=0.0_dp)
@@ -253,6 +258,12 @@ contains
             contact%seg_searched = seg_on
             contact%mseg_searched = mseg_on
             searched = .true.
+            contact%searches = contact%searches + 1
+            do k = 1, size(contact%mseg, 2)
+                if (.not. mseg_on(k)) cycle
+                where (contact%birth(contact%mseg(:, k)) == 0) &
+                    contact%birth(contact%mseg(:, k)) = contact%searches
+            end do
             contact%placed = .false.
             contact%normal = 0.0_dp
             contact%wref = 0.0_dp
@@ -407,8 +418,8 @@ contains
         end subroutine segment_to_segment
 
         !> The active master segments of RPIM pairs in chains (each segment's end is the next
-        !> one's start: the faces of a surface run with the body on their left), with the arc
-        !> length of every chain node.
+        !> one's start: the faces of a surface run with the body on their left, and both
+        !> faces' elements are of one group), with the arc length of every chain node.
         subroutine chain_master_segments()
             integer, allocatable :: next_seg(:), starts_at(:)
             logical, allocatable :: has_previous(:)
@@ -429,11 +440,18 @@ contains
                 kn = starts_at(contact%mseg(2, ks))
                 if (kn == 0) cycle
                 if (contact%mseg_pair(kn) /= contact%mseg_pair(ks)) cycle
+                if (.not. (same_birth(ks) .and. same_birth(kn))) cycle
+                ! A chain ends where the face passes to elements of another group: a layer
+                ! placed at another time, whose displacements since placement (and so the
+                ! face's geometry) have a kink there by construction (docs/theory.md s. 14).
+                if (model%mesh%group(contact%mseg_element(kn)) /= &
+                    model%mesh%group(contact%mseg_element(ks))) cycle
                 next_seg(ks) = kn
                 has_previous(kn) = .true.
             end do
             do ks = 1, size(contact%mseg, 2)
                 if (.not. mseg_on(ks) .or. has_previous(ks) .or. seg_chain(ks) /= 0) cycle
+                if (.not. same_birth(ks)) cycle
                 if (model%contact_pairs(contact%mseg_pair(ks))%search /= search_rpim) cycle
                 n = size(chain_start)
                 chain_node = [chain_node, contact%mseg(1, ks)]
@@ -450,6 +468,17 @@ contains
                 chain_start = [chain_start, size(chain_node) + 1]
             end do
         end subroutine chain_master_segments
+
+        !> Both nodes of master segment ks were placed at one search. A face placed on an
+        !> earlier one starts from its settled nodes to nodes at their design place: the
+        !> face's geometry (x + u since placement) bends there by construction, by the
+        !> settlement before the placement, however fine the mesh; a smooth curve through
+        !> such a bend would be an artefact (docs/theory.md section 14). Such a segment is
+        !> left straight.
+        pure logical function same_birth(ks)
+            integer, intent(in) :: ks
+            same_birth = contact%birth(contact%mseg(1, ks)) == contact%birth(contact%mseg(2, ks))
+        end function same_birth
 
         !> RPIM (paper Step 3): the master surface's geometry is the smooth curve
         !> x(s) = sum phi_i(s) x_i through its nodes; the forces still pass through the

@@ -18,14 +18,18 @@
 !>   reaches it at a finite slip and stays there.
 !> - Tangent floors (only for a regular stiffness matrix; the stresses do not use them):
 !>   the hyperbolic factor at ks_residual, and an open joint's ks at kn_t.
-!> The tangent handed to Newton's iterations is eq. (6) at the end of the increment, the
-!> derivative of the exact shear integration (floors aside).
+!> The tangent handed to Newton's iterations (goodman_update_tangent) is the derivative of
+!> this update with respect to the increment: kn at the end, the hyperbola's ks_i g^2 with
+!> its dependence on the mid normal stress, and at the Coulomb cap d tau / d du_n =
+!> -sign(tau) tan(phi) kn (docs/theory.md section 12.3); floors aside, it is exact, so
+!> Newton converges quadratically wherever the law is smooth.
 module cfrd_goodman
     use cfrd_kinds, only: dp
     implicit none
     private
 
     public :: goodman_params_t, goodman_tangent, goodman_update, goodman_shear_stiffness
+    public :: goodman_update_tangent
     public :: goodman_normal_stress, coulomb_limit
 
     real(dp), parameter :: deg = 0.017453292519943295769_dp
@@ -139,4 +143,96 @@ contains
             capped = sign(min(abs(tau), coulomb_limit(p, sn)), tau)
         end function capped
     end subroutine goodman_update
+    !> Shear after the slip ds from tau0 at compressive normal stress pn (hyperbolic_shear)
+    !> and its derivatives d tau / d ds and d tau / d pn. At ds = 0 the derivative is the
+    !> one of continued loading in the direction of tau0 (the first Newton iteration).
+    pure recursive subroutine hyperbolic_shear_derivatives(p, tau0, ds, pn, tau, dtau_ds, &
+                                                           dtau_dpn)
+        type(goodman_params_t), intent(in) :: p
+        real(dp), intent(in) :: tau0, ds, pn
+        real(dp), intent(out) :: tau, dtau_ds, dtau_dpn
+        real(dp) :: pf, dpf, ks_i, dks_i, b, g0, g, q, t0, a, dg, r, h_r, h_pn
+        pf = max(pn, p%sigma_n_floor)
+        dpf = merge(1.0_dp, 0.0_dp, pn > p%sigma_n_floor)   ! d pf / d pn
+        ks_i = p%k1*p%gamma_w*(pf/p%pa)**p%n1
+        dks_i = p%n1*ks_i/pf*dpf                            ! d ks_i / d pn
+        b = p%rf1/(pf*tan(p%phi*deg))
+        tau = tau0
+        dtau_dpn = 0.0_dp
+        t0 = abs(tau0)
+        if (tau0*ds < 0.0_dp) then
+            tau = tau0 + ks_i*ds
+            dtau_ds = ks_i
+            dtau_dpn = dks_i*ds
+            if (tau*tau0 >= 0.0_dp) return
+            ! Past zero: loading from zero over the remaining slip r = tau0/ks_i + ds.
+            r = tau/ks_i
+            call hyperbolic_shear_derivatives(p, 0.0_dp, r, pn, tau, h_r, h_pn)
+            dtau_ds = h_r
+            dtau_dpn = h_pn - h_r*tau0*dks_i/ks_i**2
+            return
+        end if
+        a = abs(ds)
+        if (b == 0.0_dp) then
+            tau = sign(t0 + ks_i*a, merge(tau0, ds, ds == 0.0_dp))
+            dtau_ds = ks_i
+            dtau_dpn = sign(a*dks_i, ds)
+            return
+        end if
+        g0 = 1.0_dp - b*t0
+        if (g0 <= 0.0_dp) then
+            dtau_ds = 0.0_dp
+            return
+        end if
+        q = ks_i*b*a
+        g = g0/(1.0_dp + q*g0)
+        dtau_ds = ks_i*g**2
+        if (ds == 0.0_dp) return
+        ! d/d pn of t = (1 - g)/b, with b ~ 1/pf, g0 = 1 - b t0, q ~ pf^(n1 - 1).
+        dg = (t0*b/pf*dpf - g0**2*q*(p%n1 - 1.0_dp)/pf*dpf)/(1.0_dp + q*g0)**2
+        tau = sign((1.0_dp - g)/b, ds)
+        dtau_dpn = sign((1.0_dp - g)/(b*pf)*dpf - dg/b, ds)
+    end subroutine hyperbolic_shear_derivatives
+
+    !> c(2,2) = d s_new / d de of goodman_update, floored where the update is flat (an open
+    !> joint's shear, and its normal with the tension cut-off; a joint at the Coulomb cap or
+    !> past the hyperbola's asymptote) at ks_residual ks_i: small enough that Newton's
+    !> iterations still contract by about that factor there, as the joint's nodes always
+    !> belong to the slab's or the body's elements, which keep the matrix regular.
+    pure subroutine goodman_update_tangent(p, s, un, de, c)
+        type(goodman_params_t), intent(in) :: p
+        real(dp), intent(in) :: s(2), un, de(2)
+        real(dp), intent(out) :: c(2, 2)
+        real(dp) :: sn_mid, sn_new, kn_mid, kn_new, tau, dtau_ds, dtau_dpn, floor
+        sn_mid = goodman_normal_stress(p, un + 0.5_dp*de(1))
+        sn_new = goodman_normal_stress(p, un + de(1))
+        kn_mid = normal_slope(un + 0.5_dp*de(1))
+        kn_new = normal_slope(un + de(1))
+        call hyperbolic_shear_derivatives(p, s(2), de(2), -sn_mid, tau, dtau_ds, dtau_dpn)
+        c = 0.0_dp
+        c(1, 1) = kn_new
+        if (abs(tau) > coulomb_limit(p, sn_new)) then
+            ! At the cap tau = sign(tau) max(-sigma_n, 0) tan(phi).
+            if (sn_new < 0.0_dp) c(2, 1) = -sign(tan(p%phi*deg), tau)*kn_new
+        else
+            c(2, 2) = dtau_ds
+            c(2, 1) = -0.5_dp*kn_mid*dtau_dpn
+        end if
+        ! Floors: a small fraction of the joint's initial shear stiffness, so that Newton's
+        ! rate of convergence where the update is flat stays of the order ks_residual.
+        floor = ks_residual*p%k1*p%gamma_w*(max(-sn_new, p%sigma_n_floor)/p%pa)**p%n1
+        c(1, 1) = max(c(1, 1), floor)
+        c(2, 2) = max(c(2, 2), floor)
+    contains
+        pure real(dp) function normal_slope(u)
+            real(dp), intent(in) :: u
+            if (u <= 0.0_dp) then
+                normal_slope = p%kn_compression
+            else if (p%tension_cutoff) then
+                normal_slope = 0.0_dp
+            else
+                normal_slope = p%kn_tension
+            end if
+        end function normal_slope
+    end subroutine goodman_update_tangent
 end module cfrd_goodman
