@@ -16,19 +16,11 @@ module test_analysis_increment
     use cfrd_stage_state, only: state_t, ngauss
     use cfrd_increment, only: solve_increment
     use cfrd_test_models, only: new_model, elastic_material
+    use test_solver_sparse, only: dgesv
     implicit none
     private
 
     public :: collect_analysis_increment
-
-    interface
-        subroutine dgesv(n, nrhs, a, lda, ipiv, b, ldb, info)
-            import :: dp
-            integer, intent(in) :: n, nrhs, lda, ldb
-            real(dp), intent(inout) :: a(lda, *), b(ldb, *)
-            integer, intent(out) :: ipiv(*), info
-        end subroutine dgesv
-    end interface
 
     real(dp), parameter :: young = 3.0e4_dp, nu = 0.25_dp
 

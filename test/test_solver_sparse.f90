@@ -10,6 +10,9 @@ module test_solver_sparse
     private
 
     public :: collect_solver_sparse
+    !> LAPACK's dense LU solve, the reference of the sparse solves (also of
+    !> test_analysis_increment)
+    public :: dgesv
 
     interface
         subroutine dgesv(n, nrhs, a, lda, ipiv, b, ldb, info)

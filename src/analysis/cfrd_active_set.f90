@@ -10,8 +10,9 @@ module cfrd_active_set
     use cfrd_strings, only: to_text, real_text
     use cfrd_model, only: model_t
     use cfrd_results, only: stage_result_t
-    use cfrd_contact, only: contact_t, contact_rhs, contact_unpack, contact_update_sets, &
-                            contact_iteration_limit, contact_stick_excess
+    use cfrd_contact, only: contact_t, contact_iteration_limit
+    use cfrd_contact_constraints, only: contact_rhs, contact_unpack, contact_update_sets, &
+                                        contact_stick_excess
     use cfrd_linear_system, only: system_t, factorise_contact
     implicit none
     private

@@ -15,7 +15,8 @@ module cfrd_increment
                                  material_update_tangent
     use cfrd_assembly, only: element_box_t, dof_map_t, assemble_tangent, internal_forces, &
                              gather
-    use cfrd_contact, only: contact_t, contact_geometry, contact_forces, contact_accept
+    use cfrd_contact, only: contact_t, contact_geometry
+    use cfrd_contact_constraints, only: contact_forces, contact_accept
     use cfrd_linear_system, only: system_t, new_system, factorise_values, factorise_contact, &
                                   multiplier_scale
     use cfrd_active_set, only: solve_system
@@ -396,14 +397,19 @@ contains
         real(dp) :: norm
         real(dp), allocatable :: f_int(:, :), f_contact(:, :), r(:, :), magnitude(:, :)
         integer :: node
-        allocate (f_int(2, model%mesh%nnode), magnitude(2, model%mesh%nnode))
-        call internal_forces(model, library, active, stress, f_int, magnitude)
-        magnitude = magnitude + abs(f_target)
+        allocate (f_int(2, model%mesh%nnode))
+        if (present(roundoff)) then
+            allocate (magnitude(2, model%mesh%nnode))
+            call internal_forces(model, library, active, stress, f_int, magnitude)
+            magnitude = magnitude + abs(f_target)
+        else
+            call internal_forces(model, library, active, stress, f_int)
+        end if
         if (present(contact)) then
             allocate (f_contact(2, model%mesh%nnode))
             call contact_forces(contact, f_contact)
             f_int = f_int - f_contact
-            magnitude = magnitude + abs(f_contact)
+            if (present(roundoff)) magnitude = magnitude + abs(f_contact)
         end if
         r = merge(f_target - f_int, 0.0_dp, dofmap%eq > 0)
         norm = norm2(r)

@@ -13,8 +13,8 @@ module cfrd_linear_system
     use cfrd_sparse, only: sparse_pattern_t, build_pattern, assemble_element
     use cfrd_umfpack, only: umfpack_t
     use cfrd_assembly, only: element_box_t, dof_map_t, number_equations
-    use cfrd_contact, only: contact_t, contact_element_dofs, contact_element_matrix, &
-                            contact_slip, contact_stick
+    use cfrd_contact, only: contact_t, contact_slip, contact_stick
+    use cfrd_contact_constraints, only: contact_element_dofs, contact_element_matrix
     implicit none
     private
 

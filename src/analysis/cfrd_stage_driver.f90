@@ -17,7 +17,8 @@ module cfrd_stage_driver
                              internal_forces, active_nodes
     use cfrd_water, only: water_forces, lowest_wet_point
     use cfrd_interface, only: interface_stations, phase_openings, slab_stresses
-    use cfrd_contact, only: new_contact, contact_forces
+    use cfrd_contact, only: new_contact
+    use cfrd_contact_constraints, only: contact_forces
     use cfrd_contact_results, only: record_contact
     use cfrd_creep_step, only: creep_strains, wetting_strains, ncreep
     use cfrd_signals, only: stop_signal, stop_error

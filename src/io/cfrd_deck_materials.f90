@@ -40,9 +40,8 @@ contains
         limit = merge(counts%nmat, group%n, counts%nmat > 0)
         do while (i <= group%n)
             associate (card => group%cards(i))
-                if (is_creep_card(card) .or. is_wetting_card(card)) then
-                    law = merge(creep_keyword//'  ', wetting_keyword, is_creep_card(card))
-                    law = trim(law)
+                law = card_keyword(card)
+                if (law == creep_keyword .or. law == wetting_keyword) then
                     ctx = 'a '//law//' card follows the two parameter cards of an EB material'
                     if (law == wetting_keyword) ctx = ctx//' or its CREEP card'
                     if (n > 0) then
@@ -86,14 +85,14 @@ contains
                 if (allocated(error)) return
                 i = i + 3
                 if (i <= group%n) then
-                    if (is_creep_card(group%cards(i))) then
+                    if (card_keyword(group%cards(i)) == creep_keyword) then
                         call read_creep_card(file, group%cards(i), ctx, mats(n), error)
                         if (allocated(error)) return
                         i = i + 1
                     end if
                 end if
                 if (i <= group%n) then
-                    if (is_wetting_card(group%cards(i))) then
+                    if (card_keyword(group%cards(i)) == wetting_keyword) then
                         call read_wetting_card(file, group%cards(i), ctx, mats(n), error)
                         if (allocated(error)) return
                         i = i + 1
@@ -207,13 +206,14 @@ contains
         mat%gamma_w = model%gamma_w
     end subroutine read_goodman_card
 
-    !> A card whose columns 1-10 hold the keyword CREEP.
-    logical function is_creep_card(card)
+    !> The word in columns 1-10 of a card, upper case: CREEP or WETTING on the cards that
+    !> may follow an EB material's two cards (the KEYWORD field of both layouts).
+    function card_keyword(card) result(keyword)
         type(card_t), intent(in) :: card
         character(len=:), allocatable :: keyword
         call get_text(card, creep_fields, 1, keyword)
-        is_creep_card = upper(keyword) == creep_keyword
-    end function is_creep_card
+        keyword = upper(keyword)
+    end function card_keyword
 
     !> The CREEP card of an EB material: ALPHA (1/day), B, MC, D, L, each required.
     subroutine read_creep_card(file, card, ctx, mat, error)
@@ -232,14 +232,6 @@ contains
         mat%creep_l = v%x(6)
         mat%creep = .true.
     end subroutine read_creep_card
-
-    !> A card whose columns 1-10 hold the keyword WETTING.
-    logical function is_wetting_card(card)
-        type(card_t), intent(in) :: card
-        character(len=:), allocatable :: keyword
-        call get_text(card, wetting_fields, 1, keyword)
-        is_wetting_card = upper(keyword) == wetting_keyword
-    end function is_wetting_card
 
     !> The WETTING card of an EB material: CW, NW, DW, each required (docs/theory.md s. 16).
     subroutine read_wetting_card(file, card, ctx, mat, error)

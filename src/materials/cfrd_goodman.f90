@@ -53,14 +53,21 @@ contains
     pure real(dp) function goodman_normal_stress(p, un) result(sn)
         type(goodman_params_t), intent(in) :: p
         real(dp), intent(in) :: un
-        if (un <= 0.0_dp) then
-            sn = p%kn_compression*un
-        else if (p%tension_cutoff) then
-            sn = 0.0_dp
-        else
-            sn = p%kn_tension*un
-        end if
+        sn = normal_stiffness(p, un)*un
     end function goodman_normal_stress
+
+    !> d sigma_n / d du_n at un: kn_c closed, kn_t open, 0 open with the tension cut-off.
+    pure real(dp) function normal_stiffness(p, un) result(kn)
+        type(goodman_params_t), intent(in) :: p
+        real(dp), intent(in) :: un
+        if (un <= 0.0_dp) then
+            kn = p%kn_compression
+        else if (p%tension_cutoff) then
+            kn = 0.0_dp
+        else
+            kn = p%kn_tension
+        end if
+    end function normal_stiffness
 
     !> Coulomb limit tau_f = max(-sigma_n, 0) tan phi.
     pure real(dp) function coulomb_limit(p, sn) result(tf)
@@ -96,31 +103,11 @@ contains
 
     !> Shear stress after the slip ds from tau0 at compressive normal stress pn (eq. 7
     !> integrated exactly at constant pn; a slip against tau0 unloads with ks_i first).
-    pure recursive function hyperbolic_shear(p, tau0, ds, pn) result(tau)
+    pure real(dp) function hyperbolic_shear(p, tau0, ds, pn) result(tau)
         type(goodman_params_t), intent(in) :: p
         real(dp), intent(in) :: tau0, ds, pn
-        real(dp) :: tau, pf, ks_i, b, g0, g, t
-        tau = tau0
-        if (ds == 0.0_dp) return
-        pf = max(pn, p%sigma_n_floor)
-        ks_i = p%k1*p%gamma_w*(pf/p%pa)**p%n1
-        if (tau0*ds < 0.0_dp) then
-            tau = tau0 + ks_i*ds
-            if (tau*tau0 >= 0.0_dp) return
-            tau = hyperbolic_shear(p, 0.0_dp, tau/ks_i, pn)
-            return
-        end if
-        b = p%rf1/(pf*tan(p%phi*deg))
-        t = abs(tau0)
-        if (b == 0.0_dp) then
-            t = t + ks_i*abs(ds)
-        else
-            g0 = 1.0_dp - b*t
-            if (g0 <= 0.0_dp) return
-            g = g0/(1.0_dp + ks_i*b*abs(ds)*g0)
-            t = (1.0_dp - g)/b
-        end if
-        tau = sign(t, ds)
+        real(dp) :: dtau_ds, dtau_dpn
+        call hyperbolic_shear_derivatives(p, tau0, ds, pn, tau, dtau_ds, dtau_dpn)
     end function hyperbolic_shear
 
     !> Tractions after the relative displacement increment de = (d du_n, d du_s) from s at
@@ -143,8 +130,9 @@ contains
             capped = sign(min(abs(tau), coulomb_limit(p, sn)), tau)
         end function capped
     end subroutine goodman_update
-    !> Shear after the slip ds from tau0 at compressive normal stress pn (hyperbolic_shear)
-    !> and its derivatives d tau / d ds and d tau / d pn. At ds = 0 the derivative is the
+    !> Shear after the slip ds from tau0 at compressive normal stress pn (eq. 7 integrated
+    !> exactly at constant pn, a slip against tau0 unloading with ks_i first) and its
+    !> derivatives d tau / d ds and d tau / d pn. At ds = 0 the derivative is the
     !> one of continued loading in the direction of tau0 (the first Newton iteration).
     pure recursive subroutine hyperbolic_shear_derivatives(p, tau0, ds, pn, tau, dtau_ds, &
                                                            dtau_dpn)
@@ -206,8 +194,8 @@ contains
         real(dp) :: sn_mid, sn_new, kn_mid, kn_new, tau, dtau_ds, dtau_dpn, floor
         sn_mid = goodman_normal_stress(p, un + 0.5_dp*de(1))
         sn_new = goodman_normal_stress(p, un + de(1))
-        kn_mid = normal_slope(un + 0.5_dp*de(1))
-        kn_new = normal_slope(un + de(1))
+        kn_mid = normal_stiffness(p, un + 0.5_dp*de(1))
+        kn_new = normal_stiffness(p, un + de(1))
         call hyperbolic_shear_derivatives(p, s(2), de(2), -sn_mid, tau, dtau_ds, dtau_dpn)
         c = 0.0_dp
         c(1, 1) = kn_new
@@ -223,16 +211,5 @@ contains
         floor = ks_residual*p%k1*p%gamma_w*(max(-sn_new, p%sigma_n_floor)/p%pa)**p%n1
         c(1, 1) = max(c(1, 1), floor)
         c(2, 2) = max(c(2, 2), floor)
-    contains
-        pure real(dp) function normal_slope(u)
-            real(dp), intent(in) :: u
-            if (u <= 0.0_dp) then
-                normal_slope = p%kn_compression
-            else if (p%tension_cutoff) then
-                normal_slope = 0.0_dp
-            else
-                normal_slope = p%kn_tension
-            end if
-        end function normal_slope
     end subroutine goodman_update_tangent
 end module cfrd_goodman

@@ -1,0 +1,244 @@
+!> The contact elements in the global system (docs/theory.md section 14): for each slave
+!> node c of a contact_t (its geometry from cfrd_contact's search), its equation numbers,
+!> its matrix rows and right-hand side (the constraint of its status: open, stick or slip),
+!> the multipliers unpacked from a solve, the primal-dual active-set update of the statuses,
+!> the contact forces on the nodes, and the state accepted with an increment.
+module cfrd_contact_constraints
+    use cfrd_kinds, only: dp
+    use cfrd_model, only: model_t
+    use cfrd_contact, only: contact_t, contact_open, contact_stick, contact_slip
+    implicit none
+    private
+
+    public :: contact_element_dofs, contact_element_matrix, contact_rhs, contact_unpack
+    public :: contact_update_sets, contact_stick_excess, contact_forces, contact_accept
+
+contains
+
+    !> Equation numbers of contact element c: its coupled nodes' dofs (eq(2, nnode), 0 when
+    !> prescribed) and its multipliers p, q at neq_u + 2c - 1, neq_u + 2c.
+    pure function contact_element_dofs(contact, c, eq, neq_u) result(dofs)
+        type(contact_t), intent(in) :: contact
+        integer, intent(in) :: c, eq(:, :), neq_u
+        integer, allocatable :: dofs(:)
+        integer :: k, m
+        m = contact%cpl_ptr(c + 1) - contact%cpl_ptr(c)
+        allocate (dofs(2*m + 2))
+        do k = 1, m
+            dofs(2*k - 1:2*k) = eq(:, contact%cpl_node(contact%cpl_ptr(c) + k - 1))
+        end do
+        dofs(2*m + 1:2*m + 2) = [neq_u + 2*c - 1, neq_u + 2*c]
+    end function contact_element_dofs
+
+    !> The matrix of contact element c for its current status (docs/theory.md section 14):
+    !> columns of p and q carry the contact forces, the rows the constraints (closed: zero gap;
+    !> stick: zero slip; slip: q = mu p sign; open: p = q = 0). Multipliers are scaled by
+    !> `scale` (a stiffness per length) so that all entries are of the size of K's.
+    pure subroutine contact_element_matrix(contact, c, mu, scale, constrains, ke, viscous)
+        type(contact_t), intent(in) :: contact
+        integer, intent(in) :: c
+        real(dp), intent(in) :: mu, scale
+        !> slip rows: q = mu p sign - viscous c_n slip (a regularisation, 0 unless a body held
+        !> by friction alone slips everywhere and the matrix is singular)
+        real(dp), intent(in) :: viscous
+        !> the normal / tangential row reaches a free dof (else it is left out: p or q = 0)
+        logical, intent(in) :: constrains(2)
+        real(dp), intent(out) :: ke(:, :)
+        integer :: k, m, kp, kq
+        logical :: regularised
+        real(dp) :: a, diag, length
+        logical :: normal_row, tangential_row
+        m = contact%cpl_ptr(c + 1) - contact%cpl_ptr(c)
+        kp = 2*m + 1
+        kq = 2*m + 2
+        ke = 0.0_dp
+        ! The diagonal of an open row (p or q = 0) is K's size: a node not placed yet has no
+        ! length of its own, and a row of tiny size would read as singular to a solver that
+        ! does not scale rows (cfrd_umfpack: set_row_scaling).
+        length = contact%wref(c)
+        if (.not. length > 0.0_dp) length = maxval(contact%wref)
+        if (.not. length > 0.0_dp) length = 1.0_dp
+        diag = scale*length
+        normal_row = contact%status(c) /= contact_open .and. constrains(1)
+        tangential_row = contact%status(c) == contact_stick .and. constrains(2)
+        regularised = contact%status(c) == contact_slip .and. constrains(2) .and. viscous > 0
+        do k = 1, m
+            a = scale*contact%cpl_a(contact%cpl_ptr(c) + k - 1)
+            ke(2*k - 1:2*k, kp) = a*contact%normal(:, c)
+            ke(2*k - 1:2*k, kq) = -a*contact%tangent(:, c)
+            if (normal_row) ke(kp, 2*k - 1:2*k) = a*contact%normal(:, c)
+            if (tangential_row) ke(kq, 2*k - 1:2*k) = -a*contact%tangent(:, c)
+            if (regularised) ke(kq, 2*k - 1:2*k) = viscous*a/contact%w(c)*contact%tangent(:, c)
+        end do
+        if (.not. normal_row) ke(kp, kp) = diag
+        if (.not. tangential_row) then
+            ke(kq, kq) = diag
+            if (contact%status(c) == contact_slip .and. constrains(2)) &
+                ke(kq, kp) = -mu*contact%slip_sign(c)*diag
+        end if
+    end subroutine contact_element_matrix
+
+    !> Right-hand sides of contact element c's two rows, with the displacement increment
+    !> `known` (2, nnode) already taken (earlier corrections, prescribed values).
+    pure function contact_rhs(contact, c, scale, known, viscous) result(b)
+        type(contact_t), intent(in) :: contact
+        integer, intent(in) :: c
+        real(dp), intent(in) :: scale, known(:, :), viscous
+        real(dp) :: b(2), v(2)
+        b = 0.0_dp
+        if (contact%status(c) == contact_open) return
+        v = weighted_motion(contact, c, known)
+        b(1) = scale*(contact%g(c) - dot_product(contact%normal(:, c), v))
+        if (contact%status(c) == contact_stick) b(2) = scale*dot_product(contact%tangent(:, c), v)
+        if (contact%status(c) == contact_slip) &
+            b(2) = -viscous*scale/contact%w(c)*dot_product(contact%tangent(:, c), v)
+    end function contact_rhs
+
+    !> sum_i a_ci v_i: the slave side's motion relative to the master side, weighted.
+    pure function weighted_motion(contact, c, v) result(r)
+        type(contact_t), intent(in) :: contact
+        integer, intent(in) :: c
+        real(dp), intent(in) :: v(:, :)
+        real(dp) :: r(2)
+        integer :: k
+        r = 0.0_dp
+        do k = contact%cpl_ptr(c), contact%cpl_ptr(c + 1) - 1
+            r = r + contact%cpl_a(k)*v(:, contact%cpl_node(k))
+        end do
+    end function weighted_motion
+
+    !> Tractions from the solved (scaled) multipliers x(2*nc).
+    pure subroutine contact_unpack(contact, x, scale)
+        type(contact_t), intent(inout) :: contact
+        real(dp), intent(in) :: x(:), scale
+        contact%p = scale*x(1:2*contact%nc - 1:2)
+        contact%q = scale*x(2:2*contact%nc:2)
+        where (contact%status == contact_open)
+            contact%p = 0.0_dp
+            contact%q = 0.0_dp
+        end where
+    end subroutine contact_unpack
+
+    !> The primal-dual active-set step after a solve with the increment du (2, nnode)
+    !> (Hueber & Wohlmuth 2005), normal and tangential together: closed where
+    !> p - c_n gap > 0; a closed node sticks where |q - c_t slip| <= mu p, else slips in the
+    !> direction of that trial traction (a slip that turns round goes to stick first).
+    !> `changed` when any node's status or slip direction changed. (Holding every closed
+    !> node in stick while the normal set changes was tried: it cycles when a prescribed
+    !> motion drags a body.)
+    pure subroutine contact_update_sets(model, contact, du, scale, changed, one_at_a_time, &
+                                       held)
+        type(model_t), intent(in) :: model
+        type(contact_t), intent(inout) :: contact
+        real(dp), intent(in) :: du(:, :), scale
+        logical, intent(out) :: changed
+        !> change only the node that violates its conditions most (after a cycle)
+        logical, intent(in) :: one_at_a_time
+        !> (nc) nodes held closed in stick whatever their conditions say (chatter, cycles:
+        !> docs/theory.md section 14); their violation is checked by the caller
+        logical, intent(in), optional :: held(:)
+        real(dp) :: v(2), gap, slip, cn, trial, bound, mu, ptol, violation(contact%nc)
+        integer :: c, status(contact%nc), sign_new(contact%nc), worst
+        logical :: closed(contact%nc)
+        ptol = 1.0e-10_dp*max(maxval(abs(contact%p)), tiny(1.0_dp))
+        closed = .false.
+        violation = 0.0_dp
+        do c = 1, contact%nc
+            if (.not. contact%supported(c)) cycle
+            v = weighted_motion(contact, c, du)
+            gap = (contact%g(c) - dot_product(contact%normal(:, c), v))/contact%w(c)
+            cn = scale/max(contact%wref(c), tiny(1.0_dp))
+            ! a gap below 1e-10 of the node's length counts as closed (round-off)
+            closed(c) = contact%p(c) - cn*(gap - 1.0e-10_dp*contact%wref(c)) > 0.0_dp
+            violation(c) = abs(contact%p(c) - cn*gap)
+        end do
+        status = contact_open
+        sign_new = 0
+        do c = 1, contact%nc
+            if (.not. closed(c)) cycle
+            v = weighted_motion(contact, c, du)
+            slip = dot_product(contact%tangent(:, c), v)/contact%w(c)
+            cn = scale/max(contact%wref(c), tiny(1.0_dp))
+            mu = model%contact_pairs(contact%pair(c))%friction
+            trial = contact%q(c) - cn*slip
+            bound = mu*max(contact%p(c), 0.0_dp)
+            violation(c) = abs(abs(trial) - bound)
+            if (mu > 0.0_dp .and. abs(trial) <= bound*(1.0_dp + 1.0e-9_dp) + ptol) then
+                status(c) = contact_stick
+            else
+                status(c) = contact_slip
+                if (mu > 0.0_dp) sign_new(c) = int(sign(1.0_dp, trial))
+                ! A slip that turns round passes through stick: try that first (slip
+                ! reversal is how the iterates of a sliding-everywhere body chatter).
+                if (contact%status(c) == contact_slip .and. &
+                    sign_new(c) == -contact%slip_sign(c) .and. sign_new(c) /= 0) then
+                    status(c) = contact_stick
+                    sign_new(c) = 0
+                end if
+            end if
+        end do
+        if (present(held)) then
+            where (held .and. contact%supported)
+                status = contact_stick
+                sign_new = 0
+                violation = -1.0_dp
+            end where
+        end if
+        if (one_at_a_time) then
+            where (status == contact%status .and. sign_new == contact%slip_sign) violation = -1.0_dp
+            worst = maxloc(violation, dim=1)
+            if (violation(worst) >= 0.0_dp) then
+                where ([(c /= worst, c=1, contact%nc)])
+                    status = contact%status
+                    sign_new = contact%slip_sign
+                end where
+            end if
+        end if
+        changed = any(status /= contact%status) .or. any(sign_new /= contact%slip_sign)
+        contact%status = status
+        contact%slip_sign = sign_new
+    end subroutine contact_update_sets
+
+    !> How far the tractions of a node in stick break its conditions (kPa): the tension
+    !> max(0, -p) plus the friction beyond the cone max(0, |q| - mu p); 0 when they hold.
+    pure real(dp) function contact_stick_excess(model, contact, c) result(excess)
+        type(model_t), intent(in) :: model
+        type(contact_t), intent(in) :: contact
+        integer, intent(in) :: c
+        real(dp) :: mu
+        mu = model%contact_pairs(contact%pair(c))%friction
+        excess = max(0.0_dp, -contact%p(c)) + &
+                 max(0.0_dp, abs(contact%q(c)) - mu*max(contact%p(c), 0.0_dp))
+    end function contact_stick_excess
+
+    !> The forces the contact tractions apply to the nodes (2, nnode), kN/m.
+    pure subroutine contact_forces(contact, force)
+        type(contact_t), intent(in) :: contact
+        real(dp), intent(inout) :: force(:, :)
+        integer :: c, k
+        force = 0.0_dp
+        do c = 1, contact%nc
+            if (contact%status(c) == contact_open) cycle
+            do k = contact%cpl_ptr(c), contact%cpl_ptr(c + 1) - 1
+                force(:, contact%cpl_node(k)) = force(:, contact%cpl_node(k)) - &
+                    contact%cpl_a(k)*(contact%p(c)*contact%normal(:, c) - &
+                                      contact%q(c)*contact%tangent(:, c))
+            end do
+        end do
+    end subroutine contact_forces
+
+    !> After an accepted increment du: displacements since placement, gaps and slips.
+    pure subroutine contact_accept(contact, du)
+        type(contact_t), intent(inout) :: contact
+        real(dp), intent(in) :: du(:, :)
+        real(dp) :: v(2)
+        integer :: c
+        do c = 1, contact%nc
+            if (.not. contact%supported(c)) cycle
+            v = weighted_motion(contact, c, du)
+            contact%gap(c) = (contact%g(c) - dot_product(contact%normal(:, c), v))/contact%w(c)
+            contact%slip(c) = contact%slip(c) + dot_product(contact%tangent(:, c), v)/contact%w(c)
+        end do
+        contact%u = contact%u + du
+    end subroutine contact_accept
+end module cfrd_contact_constraints
