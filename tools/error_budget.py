@@ -12,7 +12,9 @@ Variants (each named in the table with its source tag):
                 same with its volumetric or shear part alone, b and d halved or doubled, and
                 b five times without the shear part
   moduli-0.5    every E-B modulus number (K, Kb, Kur) halved: a field-to-laboratory scale
-                factor of 2 [choice: the size of the scale effect is not known for this dam]
+                factor of 2 [choice: the size of the scale effect is not known for this dam];
+                and the same in the upstream zones (IIA, IIIA, IIIB), the bands behind the
+                slab (IIA, IIIA) or the downstream zones (IIIC, IIID) alone
   cast-early    each slab phase cast at the start of its casting period (Table 2) instead of
                 its end [paper periods, choice of the day]
   slab-q4       the slab in plain Q4 quads (which lock in bending) instead of Q4S [choice]
@@ -64,8 +66,9 @@ def generate(path, *options, creep_scale=None):
                    capture_output=True)
 
 
-def halve_moduli(path):
-    """K (columns 11-20) and Kb (41-50) of every EB card halved; Kur is blank (2 K)."""
+def halve_moduli(path, zones=None):
+    """K (columns 11-20) and Kb (41-50) of the EB cards halved (Kur is blank: 2 K), of every
+    material or of those whose label starts with one of `zones`."""
     lines = open(path).read().split("\n")
     out = []
     after_eb = False
@@ -76,9 +79,25 @@ def halve_moduli(path):
             line = line[:10] + f"{k:10.4f}" + line[20:40] + f"{kb:10.4f}" + line[50:]
             after_eb = False
         elif re.match(r"^\s*\d+EB\s", line):
-            after_eb = True
+            label = line[10:].split()
+            after_eb = zones is None or (bool(label) and label[0] in zones)
         out.append(line)
     open(path, "w").write("\n".join(out))
+
+
+def halve_moduli_upstream(path):
+    """The moduli halved in the zones upstream of the IIIB/IIID line (IIA, IIIA, IIIB)."""
+    halve_moduli(path, {"IIA", "IIIA", "IIIB"})
+
+
+def halve_moduli_face(path):
+    """The moduli halved in the cushion and transition bands behind the slab (IIA, IIIA)."""
+    halve_moduli(path, {"IIA", "IIIA"})
+
+
+def halve_moduli_downstream(path):
+    """The moduli halved in the downstream zones (IIIC, IIID)."""
+    halve_moduli(path, {"IIIC", "IIID"})
 
 
 def cast_early(path):
@@ -177,6 +196,9 @@ VARIANTS = [
     ("creep-high", "creep with b and d doubled", ["--creep"], (2.0, 2.0)),
     ("creep-volumetric-x5", "volumetric creep only, b five times (1 %)", ["--creep"], (5.0, 0.0)),
     ("moduli-0.5", "K, Kb (and Kur = 2 K) halved", [], halve_moduli),
+    ("moduli-0.5-upstream", "K, Kb halved in IIA, IIIA, IIIB only", [], halve_moduli_upstream),
+    ("moduli-0.5-face", "K, Kb halved in the bands behind the slab (IIA, IIIA) only", [], halve_moduli_face),
+    ("moduli-0.5-downstream", "K, Kb halved in IIIC, IIID only", [], halve_moduli_downstream),
     ("cast-early", "slab phases cast at the start of their periods (II when the fill reaches 746 m)", [], cast_early),
     ("slab-q4", "slab in plain Q4 quads", ["--slab-element", "Q4"], None),
     ("wet-reservoir", "IIA and IIIA wetted below the reservoir at each rise (a leaking face)", [], wet_reservoir),
