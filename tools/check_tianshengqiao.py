@@ -276,6 +276,17 @@ def run_suite(cfrd, workdir):
         subprocess.run([sys.executable, gen, "--interface", method, "--solver", "newton",
                         "--deck", deck], check=True)
         runs.append((deck, ["--balance", "--label", f"tsq-{method}-newton"]))
+    # The paper's own master curve (RPIM, Step 3) on the contact deck, Newton: it completes
+    # the history and balances at every stage (issue 20; docs/robustness.md).
+    deck = os.path.join(workdir, "tianshengqiao-x1-contact-rpim-newton.dat")
+    subprocess.run([sys.executable, gen, "--interface", "contact", "--solver", "newton",
+                    "--deck", deck], check=True)
+    with open(deck) as fh:
+        text = fh.read()
+    assert text.count("MORTAR    LINEAR ") == 1
+    with open(deck, "w") as fh:
+        fh.write(text.replace("MORTAR    LINEAR ", "MORTAR    RPIM   "))
+    runs.append((deck, ["--balance", "--label", "tsq-contact-rpim-newton"]))
     # The decks at the knee of docs/accuracy-cost.md ([knee] of the geometry file): checked
     # against the generator only (they run in the regression suite).
     for interface, name in (("bonded", "tianshengqiao.dat"),

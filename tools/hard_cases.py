@@ -240,10 +240,48 @@ def case_no_converge():
     return {"no-converge.dat": d}
 
 
+def case_rpim_bend():
+    """A slab against the face of a body placed in two layers (issue 20): the second layer's
+    nodes start at their design place while the first layer's top has settled, so the face in
+    x + u bends at the layer boundary, however fine the mesh. The RPIM curve must not run
+    across such a bend (docs/theory.md section 14): chains hold only faces whose nodes were
+    placed at one search. Layer 1 has one face (a chain of one segment: the straight face);
+    layer 2 two faces, the lower from the settled boundary node (straight, no chain) and the
+    upper one alone. So RPIM's master geometry is the faces', and its results those of the
+    LINEAR search on the same deck; a curve through the bend would move them."""
+    decks = {}
+    for search in ("LINEAR", "RPIM"):
+        d = Deck(f"hard case: slab on a face placed in two layers, {search}")
+        d.materials = elastic(1, "body", 5.0e3, 0.3, 20.0) + elastic(2, "slab", *SLAB)
+        rows = [0.0, 1.0, 1.5, 2.0]                      # layer 1: 0-1 m; layer 2: 1-2 m
+        for y in rows:
+            for x in (0.0, 1.0, 2.0):
+                d.nodes.append((x, y))
+        for j in range(3):
+            for i in range(2):
+                a = 1 + 3 * j + i
+                d.elems.append((a, a + 1, a + 4, a + 3, 1, "L1" if j == 0 else "L2", ""))
+        first = len(d.nodes) + 1                         # slab: x -0.3..0, 6 rows, Q4S
+        for k in range(7):
+            d.nodes += [(-0.3, 2.0 * k / 6), (0.0, 2.0 * k / 6)]
+        for k in range(6):
+            a = first + 2 * k
+            d.elems.append((a, a + 1, a + 3, a + 2, 2, "SLAB", "Q4S"))
+        d.fix([1, 2, 3], 1, 1)
+        d.fix([first, first + 1], 1, 1)
+        d.loads[""] = [f"&PRESSURE, {e}, 4, 50.0, 50.0" for e in range(7, 13)]
+        d.contact = ["&SURFACE, SLABR, 7, 2, 5, 1", "&SURFACE, BODYL, 1, 4, 2, 2",
+                     f"&PAIR, SLABR, BODYL, 0.0, 0.0, MORTAR, {search}"]
+        d.stages = ["&FILL, L1, 1, , layer 1", "&FILL, L2, 1, , layer 2",
+                    "&FILL, SLAB, 1, , slab", "&LOAD, , 2, , slab pressed on the face"]
+        decks[f"rpim-bend-{search.lower()}.dat"] = d
+    return decks
+
+
 def write_decks():
     os.makedirs(DECKS, exist_ok=True)
     for make in (case_liftoff, case_long_slip, case_contrast, case_thin, case_rockfill,
-                 case_drawdown, case_mechanism, case_no_converge):
+                 case_drawdown, case_mechanism, case_no_converge, case_rpim_bend):
         for name, deck in make().items():
             with open(os.path.join(DECKS, name), "w") as fh:
                 fh.write(deck.text())
@@ -500,6 +538,29 @@ def check_incipient_slip(c, cfrd, work):
               "40 iterations; worst node named"
 
 
+def check_rpim_bend(c, cfrd, work):
+    r = Run(cfrd, work, "rpim-bend-rpim.dat")
+    ref = Run(cfrd, work, "rpim-bend-linear.dat")
+    c.common("rpim-bend", r, 0)
+    if r.status != 0 or ref.status != 0:
+        return r, "did not run"
+    s, t = r.stages[-1], ref.stages[-1]
+    # The bend: the face nodes 1 (y 0), 4 (1), 7 (1.5), 10 (2) at x + u since placement
+    # (layer 2's nodes from zero; node 4 from layer 1's placement).
+    u = r.stages[1]["displacement"]
+    xf = np.array([[0.0, 0.0], [0.0, 1.0], [0.0, 1.5]]) + u[[0, 3, 6]]
+    t0, t1 = xf[1] - xf[0], xf[2] - xf[1]
+    bend = abs(math.atan2(t0[0], t0[1]) - math.atan2(t1[0], t1[1]))
+    p = np.max(np.abs(t["c_sigma_n"]))
+    e = max(rel(s["displacement"], t["displacement"]), rel(s["c_sigma_n"], t["c_sigma_n"]),
+            rel(s["c_gap"], t["c_gap"]) if np.max(np.abs(t["c_gap"])) > 0 else 0.0)
+    c.verdict("rpim-bend/as-linear", e <= 1e-9 and p > 1.0 and bend > 1e-3,
+              f"RPIM against the LINEAR search on the same deck (no chain crosses the layer "
+              f"bend of {bend:.1e} rad; every chain straight): displacements, sigma_n, gaps "
+              f"{e:.1e} (1e-9); largest pressure {p:.1f} kPa")
+    return r, f"converged; RPIM = LINEAR {e:.0e} across a bend of {bend:.0e} rad"
+
+
 CASES = [("liftoff", "full lift-off of the slab and re-closure", check_liftoff),
          ("long-slip", "slip of 3 master element lengths", check_long_slip),
          ("contrast", "kn / E_cushion = 1e6, E_slab / E_cushion = 1e5", check_contrast),
@@ -510,7 +571,9 @@ CASES = [("liftoff", "full lift-off of the slab and re-closure", check_liftoff),
          ("mechanism", "frictionless slab held by nothing", check_mechanism),
          ("no-converge", "Newton tolerance below round-off", check_no_converge),
          ("incipient-slip", "Tianshengqiao fine slab at incipient slip (stage 15)",
-          check_incipient_slip)]
+          check_incipient_slip),
+         ("rpim-bend", "RPIM master face placed in two layers (a bend at the boundary)",
+          check_rpim_bend)]
 
 
 def main(argv=None):

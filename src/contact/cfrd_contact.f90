@@ -441,6 +441,7 @@ contains
                 if (kn == 0) cycle
                 if (contact%mseg_pair(kn) /= contact%mseg_pair(ks)) cycle
                 if (.not. (same_birth(ks) .and. same_birth(kn))) cycle
+                if (held(ks) .or. held(kn)) cycle
                 ! A chain ends where the face passes to elements of another group: a layer
                 ! placed at another time, whose displacements since placement (and so the
                 ! face's geometry) have a kink there by construction (docs/theory.md s. 14).
@@ -451,7 +452,7 @@ contains
             end do
             do ks = 1, size(contact%mseg, 2)
                 if (.not. mseg_on(ks) .or. has_previous(ks) .or. seg_chain(ks) /= 0) cycle
-                if (.not. same_birth(ks)) cycle
+                if (.not. same_birth(ks) .or. held(ks)) cycle
                 if (model%contact_pairs(contact%mseg_pair(ks))%search /= search_rpim) cycle
                 n = size(chain_start)
                 chain_node = [chain_node, contact%mseg(1, ks)]
@@ -479,6 +480,17 @@ contains
             integer, intent(in) :: ks
             same_birth = contact%birth(contact%mseg(1, ks)) == contact%birth(contact%mseg(2, ks))
         end function same_birth
+
+        !> A node of master segment ks is pinned by BOUNDARY in both directions (a support:
+        !> at the dam's toe, the rock; a roller, such as a plane of symmetry, is not): the
+        !> face bends there by the support's reaction, a corner of the displacement field
+        !> that no refinement removes (issue 22); a smooth curve through it would spread that
+        !> corner over the chain's node spacing. Such a segment is left straight.
+        pure logical function held(ks)
+            integer, intent(in) :: ks
+            held = all(model%fixed(:, contact%mseg(1, ks))) .or. &
+                   all(model%fixed(:, contact%mseg(2, ks)))
+        end function held
 
         !> RPIM (paper Step 3): the master surface's geometry is the smooth curve
         !> x(s) = sum phi_i(s) x_i through its nodes; the forces still pass through the
