@@ -545,8 +545,8 @@ def check_rpim_bend(c, cfrd, work):
     if r.status != 0 or ref.status != 0:
         return r, "did not run"
     s, t = r.stages[-1], ref.stages[-1]
-    # The bend: the face nodes 1 (y 0), 4 (1), 7 (1.5), 10 (2) at x + u since placement
-    # (layer 2's nodes from zero; node 4 from layer 1's placement).
+    # The bend at node 4 (y 1): the face nodes 1 (y 0), 4 and 7 (y 1.5) at x + u after
+    # layer 2 (node 7 since its placement, nodes 1 and 4 since layer 1's; no RESET).
     u = r.stages[1]["displacement"]
     xf = np.array([[0.0, 0.0], [0.0, 1.0], [0.0, 1.5]]) + u[[0, 3, 6]]
     t0, t1 = xf[1] - xf[0], xf[2] - xf[1]
