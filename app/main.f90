@@ -17,12 +17,15 @@ program cfrd_main
     use cfrd_signals, only: catch_stop_signals, stop_signal, signal_name
     use cfrd_strings, only: to_text
     use cfrd_memory, only: tune_allocator
+    use cfrd_hdf5, only: results_format_t
+    use cfrd_blas_threads, only: set_blas_threads
     implicit none
 
     type :: options_t
         logical :: check_only = .false.
         logical :: quiet = .false.
         logical :: legacy_listing = .false.   !! also DECK.lst, the legacy-style tables
+        type(results_format_t) :: format      !! --compress, --float32
         character(len=:), allocatable :: out_dir
     end type options_t
 
@@ -42,6 +45,7 @@ program cfrd_main
     integer :: i, status, worst
 
     call tune_allocator()
+    i = set_blas_threads()
     call parse_command_line(options, decks, error)
     if (.not. allocated(error)) call check_outputs(options, decks, error)
     if (allocated(error)) then
@@ -97,7 +101,7 @@ contains
             end if
             ! Each stage goes to the files when it is done; results keeps the last only.
             if (.not. allocated(error)) call begin_output(current%output, stem, model, error, &
-                                                         options%legacy_listing)
+                                                         options%legacy_listing, options%format)
             if (.not. allocated(error)) then
                 call run_analysis(model, results, error, stream_stage, last_only=.true.)
                 if (allocated(error)) then
@@ -262,6 +266,25 @@ contains
                 options%quiet = .true.
             case ('--legacy-listing')
                 options%legacy_listing = .true.
+            case ('--float32')
+                options%format%single = .true.
+            case ('--compress')
+                block
+                    integer :: level, stat
+                    level = -1
+                    if (i < n) then
+                        i = i + 1
+                        call get_command_argument(i, arg, length)
+                        read (arg, *, iostat=stat) level
+                        if (stat /= 0 .or. len_trim(arg) /= 1) level = -1
+                    end if
+                    if (level < 0 .or. level > 9) then
+                        call fatal_error(error, 'option --compress needs a level from 0 '// &
+                                         '(none) to 9', usage_error)
+                        return
+                    end if
+                    options%format%deflate = level
+                end block
             case ('-o', '--out')
                 if (i == n) then
                     call fatal_error(error, 'option '//trim(arg)//' needs a directory', &
@@ -308,6 +331,10 @@ contains
             '  --out DIR     write results into DIR (created if missing); two decks of', &
             '                the same name are refused (exit 2)', &
             '  --quiet       print nothing but errors', &
+            '  --compress N  deflate level of the HDF5 datasets, 0 (none) to 9; default 1', &
+            '                (with the shuffle filter; lossless, about half the size)', &
+            '  --float32     store the stages'' fields in single precision (7 digits):', &
+            '                half the size again; the mesh and attributes stay double', &
             '  --legacy-listing', &
             '                also write DECK.lst: the legacy codes'' per-layer tables of', &
             '                node displacements and element stresses and stress levels', &

@@ -176,6 +176,10 @@ tool_checks "tianshengqiao" python3 tools/check_tianshengqiao.py --run "$cfrd" \
     --workdir "$work/tianshengqiao"
 # The XDMF file read back through an independent reader (meshio) against the HDF5 datasets.
 tool_checks "xdmf" python3 tools/check_xdmf.py --run "$cfrd" --workdir "$work/xdmf"
+# How results are stored (issue 21): shuffle + deflate lossless, --float32 exactly rounded,
+# its XDMF file read back by meshio, --compress usage errors (tools/check_results_format.py).
+tool_checks "results format" python3 tools/check_results_format.py --cfrd "$cfrd" \
+    --workdir "$work/format"
 # The figures plot what the HDF5 files hold (tools/figures.py --data against h5py reads):
 # the joint deck alone, then the contact deck with the joint deck (both methods in one set).
 tool_checks "figures" python3 tools/check_figures.py --run "$cfrd" --workdir "$work/figures"

@@ -16,7 +16,8 @@ module cfrd_hdf5
                     h5awrite_f, h5aclose_f, h5aopen_f, h5aexists_f, h5tcopy_f, &
                     h5tset_size_f, h5tclose_f, h5eset_auto_f, H5F_ACC_TRUNC_F, &
                     H5F_SCOPE_GLOBAL_F, H5S_SCALAR_F, H5T_NATIVE_DOUBLE, H5T_NATIVE_INTEGER, &
-                    H5T_NATIVE_CHARACTER
+                    H5T_NATIVE_CHARACTER, h5pcreate_f, h5pclose_f, h5pset_chunk_f, &
+                    h5pset_shuffle_f, h5pset_deflate_f, H5P_DATASET_CREATE_F, H5T_NATIVE_REAL
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, io_error
     use cfrd_version, only: cfrd_version_string
@@ -27,12 +28,27 @@ module cfrd_hdf5
     implicit none
     private
 
-    public :: results_file_t, open_results_h5, write_stage_h5, close_results_h5
+    public :: results_file_t, results_format_t, open_results_h5, write_stage_h5, &
+              close_results_h5
     public :: write_results_h5, layout_version
 
     !> Version of the layout of docs/results.md (2: streamed, `complete`, history, XDMF
     !> helpers, zones).
     integer, parameter :: layout_version = 2
+
+    !> Datasets of at least min_filtered values are stored in chunks of at most
+    !> chunk_values values through the shuffle and deflate filters (filtered_layout).
+    integer(hsize_t), parameter :: min_filtered = 1024, chunk_values = 131072
+
+    !> How the values are stored (cfrd --compress, --float32; docs/results.md).
+    type :: results_format_t
+        !> deflate level of the datasets of min_filtered values or more: 0 (no filter,
+        !> contiguous) to 9; the shuffle filter goes with any level above 0
+        integer :: deflate = 1
+        !> the stages' real datasets in IEEE single precision (about 7 digits), the mesh,
+        !> the deck and every attribute in double
+        logical :: single = .false.
+    end type results_format_t
 
     !> A results file open for writing, one stage after another.
     type :: results_file_t
@@ -42,6 +58,7 @@ module cfrd_hdf5
         logical :: interfaces = .false.      !! the deck has interface elements
         logical :: slab = .false.            !! the deck has SLAB groups
         logical :: contact = .false.         !! the deck has CONTACT pairs
+        type(results_format_t) :: format
         character(len=:), allocatable :: path
     end type results_file_t
 
@@ -49,6 +66,8 @@ module cfrd_hdf5
     type :: h5_state_t
         logical :: ok = .true.
         character(len=:), allocatable :: failed   !! what was being written
+        integer :: deflate = 0        !! the deflate level of large datasets (0: none)
+        logical :: single = .false.   !! real datasets in single precision
     end type h5_state_t
 
 contains
@@ -76,17 +95,20 @@ contains
     !> Create the results file at `path` (replacing it) with the run's description, the
     !> deck and the mesh, `complete` = 0 and no stage yet. After an error, call
     !> close_results_h5 all the same: it closes what was opened.
-    subroutine open_results_h5(file, path, model, error)
+    subroutine open_results_h5(file, path, model, error, format)
         type(results_file_t), intent(out) :: file
         character(len=*), intent(in) :: path
         type(model_t), intent(in) :: model
         type(error_t), allocatable, intent(out) :: error
+        type(results_format_t), intent(in), optional :: format
         type(h5_state_t) :: st
         integer(hid_t) :: group_id
         integer :: hdferr, m, width
         character(len=:), allocatable :: labels(:), laws(:)
 
         file%path = path
+        if (present(format)) file%format = format
+        st%deflate = file%format%deflate
         file%interfaces = has_interfaces(model)
         file%slab = has_slab(model)
         file%contact = has_contact(model)
@@ -120,6 +142,9 @@ contains
         call attr_int(file%file_id, 'stages_total', size(model%stages), st)
         call attr_int(file%file_id, 'stages_completed', 0, st)
         call attr_int(file%file_id, 'complete', 0, st)
+        call attr_text(file%file_id, 'fields_precision', &
+                       merge('float32', 'float64', file%format%single), st)
+        call attr_int(file%file_id, 'deflate_level', file%format%deflate, st)
 
         call open_group(file%file_id, 'input', group_id, st)
         call dataset_text(group_id, 'deck', model%deck_text, st)
@@ -191,6 +216,8 @@ contains
             return
         end if
         write (stage_name, '(a,i4.4)') 'stage_', number
+        st%deflate = file%format%deflate
+        st%single = file%format%single
         call open_group(file%stages_id, trim(stage_name), stage_id, st)
         call attr_text(stage_id, 'name', stage%name, st)
         call attr_text(stage_id, 'kind', stage_kind_name(stage%kind), st)
@@ -450,7 +477,7 @@ contains
         integer(hsize_t), intent(in) :: dims(:)
         integer(hid_t), intent(out) :: dset_id
         type(h5_state_t), intent(inout) :: st
-        integer(hid_t) :: space_id
+        integer(hid_t) :: space_id, plist_id
         integer :: hdferr
         dset_id = -1
         if (.not. st%ok) return
@@ -463,10 +490,47 @@ contains
             call fail(st, 'dataspace of '//name)
             return
         end if
-        call h5dcreate_f(loc, name, type_id, space_id, dset_id, hdferr)
-        if (hdferr < 0) call fail(st, 'dataset '//name)
+        if (st%deflate > 0 .and. product(dims) >= min_filtered) then
+            call filtered_layout(dims, st%deflate, plist_id, hdferr)
+            if (hdferr < 0) then
+                call fail(st, 'the chunked layout of '//name)
+                call h5sclose_f(space_id, hdferr)
+                return
+            end if
+            call h5dcreate_f(loc, name, type_id, space_id, dset_id, hdferr, dcpl_id=plist_id)
+            if (hdferr < 0) call fail(st, 'dataset '//name)
+            call h5pclose_f(plist_id, hdferr)
+        else
+            call h5dcreate_f(loc, name, type_id, space_id, dset_id, hdferr)
+            if (hdferr < 0) call fail(st, 'dataset '//name)
+        end if
         call h5sclose_f(space_id, hdferr)
     end subroutine create_dataset
+
+    !> The creation properties of a large dataset: chunks of at most chunk_values values
+    !> (whole along the fastest-varying dimensions, cut along the slowest), each passed
+    !> through the shuffle filter (the bytes of the values regrouped by significance) and
+    !> deflate (zlib) at `level`. Both filters are HDF5's own, so h5py,
+    !> ParaView and XDMF readers read the file without change, and lossless: the values
+    !> read back are the values written (docs/results.md).
+    subroutine filtered_layout(dims, level, plist_id, hdferr)
+        integer(hsize_t), intent(in) :: dims(:)
+        integer, intent(in) :: level
+        integer(hid_t), intent(out) :: plist_id
+        integer, intent(out) :: hdferr
+        integer(hsize_t) :: chunk(size(dims)), inner
+        integer :: k, err
+        call h5pcreate_f(H5P_DATASET_CREATE_F, plist_id, hdferr)
+        if (hdferr < 0) return
+        chunk = dims
+        k = size(dims)
+        inner = max(product(dims(1:k - 1)), 1_hsize_t)
+        chunk(k) = max(1_hsize_t, min(dims(k), chunk_values/inner))
+        call h5pset_chunk_f(plist_id, size(dims), chunk, hdferr)
+        if (hdferr >= 0) call h5pset_shuffle_f(plist_id, hdferr)
+        if (hdferr >= 0) call h5pset_deflate_f(plist_id, level, hdferr)
+        if (hdferr < 0) call h5pclose_f(plist_id, err)
+    end subroutine filtered_layout
 
     subroutine finish_dataset(dset_id, name, hdferr, units, components, st)
         integer(hid_t), intent(in) :: dset_id
@@ -492,7 +556,8 @@ contains
         integer(hsize_t) :: dims(2)
         integer :: hdferr
         dims = shape(values, kind=hsize_t)
-        call create_dataset(loc, name, H5T_NATIVE_DOUBLE, dims, dset_id, st)
+        call create_dataset(loc, name, merge(H5T_NATIVE_REAL, H5T_NATIVE_DOUBLE, st%single), &
+                            dims, dset_id, st)
         if (dset_id < 0) return
         call h5dwrite_f(dset_id, H5T_NATIVE_DOUBLE, values, dims, hdferr)
         call finish_dataset(dset_id, name, hdferr, units, components, st)
@@ -507,7 +572,8 @@ contains
         integer(hsize_t) :: dims(3)
         integer :: hdferr
         dims = shape(values, kind=hsize_t)
-        call create_dataset(loc, name, H5T_NATIVE_DOUBLE, dims, dset_id, st)
+        call create_dataset(loc, name, merge(H5T_NATIVE_REAL, H5T_NATIVE_DOUBLE, st%single), &
+                            dims, dset_id, st)
         if (dset_id < 0) return
         call h5dwrite_f(dset_id, H5T_NATIVE_DOUBLE, values, dims, hdferr)
         call finish_dataset(dset_id, name, hdferr, units, components, st)
@@ -522,7 +588,8 @@ contains
         integer(hsize_t) :: dims(1)
         integer :: hdferr
         dims = shape(values, kind=hsize_t)
-        call create_dataset(loc, name, H5T_NATIVE_DOUBLE, dims, dset_id, st)
+        call create_dataset(loc, name, merge(H5T_NATIVE_REAL, H5T_NATIVE_DOUBLE, st%single), &
+                            dims, dset_id, st)
         if (dset_id < 0) return
         call h5dwrite_f(dset_id, H5T_NATIVE_DOUBLE, values, dims, hdferr)
         call finish_dataset(dset_id, name, hdferr, units, components, st)

@@ -16,7 +16,8 @@ module cfrd_run_output
     use cfrd_model, only: model_t
     use cfrd_results, only: stage_result_t
     use cfrd_stage_summary, only: stage_summary_t, summarise
-    use cfrd_hdf5, only: results_file_t, open_results_h5, write_stage_h5, close_results_h5
+    use cfrd_hdf5, only: results_file_t, results_format_t, open_results_h5, write_stage_h5, &
+                         close_results_h5
     use cfrd_xdmf, only: write_xdmf
     use cfrd_listing, only: write_listing, write_gauge_csv
     use cfrd_interface_io, only: interface_csv_t, open_interface_csv, append_interface_csv, &
@@ -102,16 +103,18 @@ contains
     end subroutine check_result_names
 
     !> Open the temporary files of a run of `model` whose results go to `stem`.* .
-    subroutine begin_output(out, stem, model, error, legacy_listing)
+    subroutine begin_output(out, stem, model, error, legacy_listing, format)
         type(run_output_t), intent(out) :: out
         character(len=*), intent(in) :: stem
         type(model_t), intent(in) :: model
         type(error_t), allocatable, intent(out) :: error
         logical, intent(in) :: legacy_listing    !! also DECK.lst (cfrd --legacy-listing)
+        !> how the HDF5 file stores its values (cfrd --compress, --float32)
+        type(results_format_t), intent(in), optional :: format
         out%stem = stem
         out%t_start = wall_seconds()
         allocate (out%summaries(size(model%stages)))
-        call open_results_h5(out%h5, stem//'.h5'//part, model, error)
+        call open_results_h5(out%h5, stem//'.h5'//part, model, error, format)
         if (.not. allocated(error)) call open_interface_csv(out%csv, stem, part, model, error)
         if (.not. allocated(error) .and. legacy_listing) &
             call open_legacy_listing(stem//'.lst'//part, model, out%legacy_unit, error)
@@ -166,7 +169,8 @@ contains
                 call write_listing(stem//'.out'//part, model, summaries, last, wall_time, error)
             if (.not. allocated(error)) call write_xdmf(stem//'.xmf'//part, &
                                                         base_name(stem)//'.h5', model, &
-                                                        out%completed, error)
+                                                        out%completed, error, &
+                                                        out%h5%format%single)
             if (.not. allocated(error) .and. written(4)) &
                 call write_gauge_csv(stem//'-gauges.csv'//part, model, summaries, error)
             if (.not. allocated(error) .and. written(6)) &
@@ -203,7 +207,7 @@ contains
         call delete_file(stem//incomplete//'.xmf')
         if (.not. allocated(error) .and. out%completed > 0) &
             call write_xdmf(stem//incomplete//'.xmf'//part, base_name(stem)//incomplete// &
-                            '.h5', model, out%completed, error)
+                            '.h5', model, out%completed, error, out%h5%format%single)
         if (.not. allocated(error)) &
             call move_file(stem//'.h5'//part, stem//incomplete//'.h5', error)
         if (.not. allocated(error) .and. out%completed > 0) &

@@ -18,11 +18,14 @@ contains
 
     !> Write the XDMF file `path` for the first `nstages` stages of the results file whose
     !> name, relative to the XDMF file, is `h5_name`.
-    subroutine write_xdmf(path, h5_name, model, nstages, error)
+    subroutine write_xdmf(path, h5_name, model, nstages, error, single)
         character(len=*), intent(in) :: path, h5_name
         type(model_t), intent(in) :: model
         integer, intent(in) :: nstages
         type(error_t), allocatable, intent(out) :: error
+        !> the stages' real datasets are in single precision (cfrd --float32)
+        logical, intent(in), optional :: single
+        character(len=1) :: fp
         integer :: unit, stat, s
         character(len=256) :: msg
         character(len=:), allocatable :: nnode, nelem, stage
@@ -33,6 +36,10 @@ contains
             call fatal_error(error, 'cannot write the XDMF file '//path//': '//trim(msg), &
                              io_error)
             return
+        end if
+        fp = '8'
+        if (present(single)) then
+            if (single) fp = '4'
         end if
         nnode = to_text(model%mesh%nnode)
         nelem = to_text(model%mesh%nelem)
@@ -58,15 +65,15 @@ contains
                 '        <Geometry GeometryType="XY">', &
                 item(nnode//' 2', 'Float', '8', '/mesh/coordinates'), &
                 '        </Geometry>', &
-                attribute('displacement', 'Vector', 'Node', nnode//' 3', 'Float', '8', &
+                attribute('displacement', 'Vector', 'Node', nnode//' 3', 'Float', fp, &
                           stage//'displacement_xyz'), &
-                attribute('displacement_total', 'Vector', 'Node', nnode//' 3', 'Float', '8', &
+                attribute('displacement_total', 'Vector', 'Node', nnode//' 3', 'Float', fp, &
                           stage//'displacement_total_xyz'), &
-                attribute('stress_centroid', 'Matrix', 'Cell', nelem//' 4', 'Float', '8', &
+                attribute('stress_centroid', 'Matrix', 'Cell', nelem//' 4', 'Float', fp, &
                           stage//'stress_centroid'), &
-                attribute('principal', 'Matrix', 'Cell', nelem//' 3', 'Float', '8', &
+                attribute('principal', 'Matrix', 'Cell', nelem//' 3', 'Float', fp, &
                           stage//'principal'), &
-                attribute('stress_level', 'Scalar', 'Cell', nelem, 'Float', '8', &
+                attribute('stress_level', 'Scalar', 'Cell', nelem, 'Float', fp, &
                           stage//'stress_level'), &
                 attribute('active', 'Scalar', 'Cell', nelem, 'Int', '4', stage//'active'), &
                 attribute('material', 'Scalar', 'Cell', nelem, 'Int', '4', '/mesh/material'), &
