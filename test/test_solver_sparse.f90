@@ -6,6 +6,7 @@ module test_solver_sparse
     use cfrd_testing, only: unittest_t, new_unittest, check, fail
     use cfrd_sparse, only: sparse_pattern_t, build_pattern, assemble_element, csc_matvec
     use cfrd_umfpack, only: umfpack_t, max_update_rank
+    use cfrd_blas_threads, only: set_blas_threads
     implicit none
     private
 
@@ -29,6 +30,7 @@ contains
         type(unittest_t), allocatable, intent(out) :: tests(:)
         tests = [ &
                 new_unittest('pattern_matches_dense_assembly', test_pattern_dense), &
+                new_unittest('one_blas_thread', test_blas_threads), &
                 new_unittest('matvec_matches_dense', test_matvec), &
                 new_unittest('solve_matches_dgesv', test_solve_dgesv), &
                 new_unittest('spring_chain_closed_form', test_spring_chain), &
@@ -629,4 +631,47 @@ contains
             end do
         end do
     end function to_dense
+    !> A run asks OpenBLAS for one thread (cfrd_blas_threads): OpenBLAS's own count
+    !> (openblas_get_num_threads) is 1 afterwards. With the user's OPENBLAS_NUM_THREADS or
+    !> CFRD_BLAS_THREADS set, or a BLAS that is not OpenBLAS, the test says so and checks
+    !> that nothing was set where nothing should be.
+    subroutine test_blas_threads(error)
+        use, intrinsic :: iso_c_binding, only: c_int, c_ptr, c_funptr, c_null_ptr, c_char, &
+                                               c_null_char, c_associated, c_f_procpointer
+        type(error_t), allocatable, intent(out) :: error
+        interface
+            type(c_funptr) function dlsym(handle, symbol) bind(C, name='dlsym')
+                import :: c_ptr, c_funptr, c_char
+                type(c_ptr), value :: handle
+                character(kind=c_char), intent(in) :: symbol(*)
+            end function dlsym
+        end interface
+        abstract interface
+            integer(c_int) function get_threads_t() bind(C)
+                import :: c_int
+            end function get_threads_t
+        end interface
+        procedure(get_threads_t), pointer :: get_threads
+        type(c_funptr) :: address
+        integer :: threads, length_user, length_cfrd, status
+        character(len=16) :: value
+        call get_environment_variable('OPENBLAS_NUM_THREADS', value, length_user, status)
+        call get_environment_variable('CFRD_BLAS_THREADS', value, length_cfrd, status)
+        threads = set_blas_threads()
+        address = dlsym(c_null_ptr, 'openblas_get_num_threads'//c_null_char)
+        if (.not. c_associated(address)) then
+            write (*, '(a)') '  the BLAS is not OpenBLAS: nothing to set'
+            call check(error, threads == 0, 'set_blas_threads set a count without OpenBLAS')
+            return
+        end if
+        if (length_user > 0 .or. length_cfrd > 0) then
+            write (*, '(a)') '  OPENBLAS_NUM_THREADS or CFRD_BLAS_THREADS is set: the user''s'
+            return
+        end if
+        call c_f_procpointer(address, get_threads)
+        write (*, '(a,i0,a,i0)') '  set ', threads, ', OpenBLAS reports ', get_threads()
+        call check(error, threads == 1 .and. get_threads() == 1, &
+                   'one BLAS thread asked for and reported by OpenBLAS')
+    end subroutine test_blas_threads
+
 end module test_solver_sparse
