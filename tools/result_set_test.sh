@@ -77,10 +77,20 @@ cp inputs/example.dat "$dir/decks/into/example.xmf"
 run --quiet --out "$dir/decks/into" "$dir/decks/into/example.xmf"
 [[ $status -eq 2 ]] && cmp -s inputs/example.dat "$dir/decks/into/example.xmf"
 verdict deck-in-out-folder-refused $? "exit $status: $(head -c 300 "$dir/err.txt")"
-# An unset $OUT in a job script: `--out ""` is a usage error, not the root folder.
-run --quiet --out "" inputs/example.dat
-[[ $status -eq 2 ]] && grep -qF "option --out needs a folder name" "$dir/err.txt"
-verdict out-empty-refused $? "exit $status: $(head -c 300 "$dir/err.txt")"
+# An unset $OUT in a job script: `--out ""` is a usage error, not the root folder. A deck
+# name of its own, so that a binary with the fault writes /cfrd-set-test-out.* (removed
+# again here) and nothing of anyone else's.
+root_files="/cfrd-set-test-out.out /cfrd-set-test-out.h5 /cfrd-set-test-out.xmf"
+if ls $root_files >/dev/null 2>&1; then
+    fail "out-empty-refused: $root_files exist already: not run"
+else
+    cp inputs/example.dat "$dir/decks/cfrd-set-test-out.dat"
+    run --quiet --out "" "$dir/decks/cfrd-set-test-out.dat"
+    written=$(ls $root_files 2>/dev/null)
+    rm -f $root_files
+    [[ $status -eq 2 && -z $written ]] && grep -qF "option --out needs a folder name" "$dir/err.txt"
+    verdict out-empty-refused $? "exit $status, wrote '$written': $(head -c 300 "$dir/err.txt")"
+fi
 
 # 2. Two runs of one set at once, with an earlier set in place.
 conc=$dir/concurrent
