@@ -12,7 +12,10 @@ program cfrd_main
     use cfrd_listing, only: write_summary
     use cfrd_run_output, only: run_output_t, begin_output, add_stage, finish_output, &
                                keep_incomplete, discard_output, result_stem, &
-                               check_result_names
+                               check_result_names, check_inputs_kept, lock_ending
+    use cfrd_run_identity, only: run_identity_t, new_run_identity
+    use cfrd_result_lock, only: result_lock_t, acquire_lock, release_lock
+    use cfrd_set_check, only: check_results, is_results_path
     use cfrd_files, only: path_exists, is_directory, make_directories
     use cfrd_signals, only: catch_stop_signals, stop_signal, signal_name
     use cfrd_strings, only: to_text
@@ -27,6 +30,8 @@ program cfrd_main
         logical :: legacy_listing = .false.   !! also DECK.lst, the legacy-style tables
         type(results_format_t) :: format      !! --compress, --float32
         character(len=:), allocatable :: out_dir
+        !> with --check: the folders and results files (.h5) whose result sets to check
+        character(len=:), allocatable :: result_paths(:)
     end type options_t
 
     !> The deck being run and its result files. They live here, not in run_deck, because
@@ -36,6 +41,8 @@ program cfrd_main
         type(model_t) :: model
         type(run_output_t) :: output
         type(error_t), allocatable :: write_error   !! the first failure to write a stage
+        type(run_identity_t) :: identity            !! run id, the deck's SHA-256
+        type(result_lock_t) :: lock                 !! DECK.lock, held while the run writes
     end type current_run_t
 
     type(options_t) :: options
@@ -54,12 +61,16 @@ program cfrd_main
         call exit(error_status(error))
     end if
 
+    worst = 0
+    if (options%check_only) call check_result_sets(options%result_paths, worst)
+
     ! SIGINT / SIGTERM stop a run between increments, keeping its completed stages
     ! (docs/results.md, "Stopped runs"); the remaining decks are not run.
     call catch_stop_signals()
-    worst = 0
     do i = 1, size(decks)
         call run_deck(trim(decks(i)), options, status)
+        ! However the run ended (short of a kill), its result set is free again.
+        call release_lock(current%lock)
         worst = max(worst, status)
         if (stop_signal() /= 0) then
             call report_stop(decks, i, status)
@@ -76,7 +87,7 @@ contains
         integer, intent(out) :: status
         type(results_t) :: results
         type(error_t), allocatable :: error
-        character(len=:), allocatable :: stem
+        character(len=:), allocatable :: stem, warning
         integer :: i
 
         status = 0
@@ -99,8 +110,19 @@ contains
             else
                 stem = result_stem(path)
             end if
+            ! The run's identity, and the lock on its result set before any file is written
+            ! (a second run of the same set is refused here).
+            if (.not. allocated(error)) call new_run_identity(path, current%identity, error)
+            if (.not. allocated(error)) then
+                call acquire_lock(current%lock, stem//lock_ending, current%identity, error, &
+                                  warning)
+                if (allocated(warning)) write (error_unit, '(a)') 'cfrd: warning: '//path// &
+                    ': '//warning
+                if (allocated(error)) error%message = path//': '//error%message
+            end if
             ! Each stage goes to the files when it is done; results keeps the last only.
-            if (.not. allocated(error)) call begin_output(current%output, stem, model, error, &
+            if (.not. allocated(error)) call begin_output(current%output, stem, model, &
+                                                         current%identity, error, &
                                                          options%legacy_listing, options%format)
             if (.not. allocated(error)) then
                 call run_analysis(model, results, error, stream_stage, last_only=.true.)
@@ -198,7 +220,8 @@ contains
     end subroutine report_stop
 
     !> Before any run: --out names a folder (created with its parents when missing, except
-    !> for --check, which writes nothing), and no two decks write the same result files.
+    !> for --check, which writes nothing), no two decks write the same result files, and
+    !> no run writes over a deck (a deck named dam.out, dam.h5, ...).
     subroutine check_outputs(options, decks, error)
         type(options_t), intent(in) :: options
         character(len=*), intent(in) :: decks(:)
@@ -211,9 +234,13 @@ contains
             end if
             call check_result_names(decks, error, options%out_dir)
             if (.not. allocated(error) .and. .not. options%check_only) &
+                call check_inputs_kept(decks, error, options%out_dir)
+            if (.not. allocated(error) .and. .not. options%check_only) &
                 call make_directories(options%out_dir, error)
         else
             call check_result_names(decks, error)
+            if (.not. allocated(error) .and. .not. options%check_only) &
+                call check_inputs_kept(decks, error)
         end if
     end subroutine check_outputs
 
@@ -240,6 +267,7 @@ contains
         character(len=:), allocatable, intent(out) :: decks(:)
         type(error_t), allocatable, intent(out) :: error
         character(len=4096) :: arg
+        logical, allocatable :: is_results(:)
         integer :: i, n, ndeck, length
         n = command_argument_count()
         allocate (character(len=4096) :: decks(n))
@@ -308,16 +336,56 @@ contains
                 decks(ndeck) = arg
             end select
         end do
-        if (ndeck == 0) then
+        ! With --check, a folder or a results file names result sets to check, not a deck.
+        allocate (is_results(ndeck))
+        is_results = .false.
+        if (options%check_only) then
+            do i = 1, ndeck
+                is_results(i) = is_results_path(trim(decks(i)))
+            end do
+        end if
+        allocate (character(len=4096) :: options%result_paths(count(is_results)))
+        n = 0
+        ndeck = 0
+        do i = 1, size(is_results)
+            if (is_results(i)) then
+                n = n + 1
+                options%result_paths(n) = decks(i)
+            else
+                ndeck = ndeck + 1
+                decks(ndeck) = decks(i)
+            end if
+        end do
+        decks = decks(1:ndeck)
+        if (size(decks) + size(options%result_paths) == 0) then
             call fatal_error(error, 'no deck given', usage_error)
             return
         end if
-        decks = decks(1:ndeck)
     end subroutine parse_command_line
+
+    !> cfrd --check DIR / RESULTS.h5: whether each result set is whole (docs/results.md,
+    !> "Result sets"); `worst` becomes 1 when one is not, 2 for a path that names none.
+    subroutine check_result_sets(paths, worst)
+        character(len=*), intent(in) :: paths(:)
+        integer, intent(inout) :: worst
+        type(error_t), allocatable :: error
+        logical :: whole
+        integer :: k
+        do k = 1, size(paths)
+            call check_results(trim(paths(k)), output_unit, whole, error)
+            if (allocated(error)) then
+                write (error_unit, '(a)') 'cfrd: '//error%message
+                worst = max(worst, error_status(error))
+            else if (.not. whole) then
+                worst = max(worst, 1)
+            end if
+        end do
+    end subroutine check_result_sets
 
     subroutine print_help()
         write (output_unit, '(a)') &
             'Usage: cfrd [options] DECK [DECK ...]', &
+            '       cfrd --check DIR|RESULTS.h5 [...]', &
             '', &
             'Runs each card deck (docs/cards.md) and writes DECK.out (listing), DECK.h5', &
             '(results, docs/results.md) and DECK.xmf (for ParaView) beside it, or in', &
@@ -325,9 +393,15 @@ contains
             'DECK.incomplete.h5 and leaves earlier results untouched; so does a run', &
             'stopped by SIGINT (Ctrl-C) or SIGTERM (Slurm''s time limit): it stops before', &
             'the next load increment. A second signal of the same kind ends it at once.', &
+            'The files of a run are one result set: they carry one run id and replace the', &
+            'earlier set all together at the end; DECK.lock keeps a second run of the same', &
+            'set out (exit 2). A result name that is a deck (dam.out) is refused (exit 2).', &
             '', &
             'Options:', &
-            '  --check       read and validate the decks only', &
+            '  --check       read and validate the decks only; given a folder or a', &
+            '                results file (.h5), say whether each result set in it is', &
+            '                whole (same run id, its deck unchanged): exit 0 when all', &
+            '                are, 1 when one is not', &
             '  --out DIR     write results into DIR (created if missing); two decks of', &
             '                the same name are refused (exit 2)', &
             '  --quiet       print nothing but errors', &

@@ -323,8 +323,8 @@ def read_results(base):
         out["sigma"] = sigma
     path = base + "-openings.csv"
     if os.path.exists(path):
-        with open(path) as f:
-            rows = list(csv.DictReader(f))
+        with open(path) as f:     # skip the '# cfrd run_id' comment line
+            rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
         for phase, (w, d) in ((1, ("w1", "d1")), (2, ("w2", "d2"))):
             sel = [r for r in rows if r["group"].strip() == f"SLAB{phase}"]
             out[w] = max((float(r["width_m"]) for r in sel), default=None)

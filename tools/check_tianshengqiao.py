@@ -221,7 +221,8 @@ def face_openings(cfrd, workdir, levels):
             ok = False
             continue
         with open(deck[:-4] + "-openings.csv", newline="") as handle:
-            rows = list(csv.DictReader(handle))
+            rows = list(csv.DictReader(line for line in handle          # '# cfrd run_id'
+                                       if not line.startswith("#")))
         for group, (w_ref, d_ref) in FACE_REFERENCE_X8.items():
             mine = [row for row in rows if row["group"].strip() == group]
             width = max(float(row["width_m"]) for row in mine)

@@ -208,7 +208,8 @@ VARIANTS = [
 
 
 def figures(base):
-    rows = list(csv.DictReader(open(base + "-openings.csv")))
+    with open(base + "-openings.csv") as f:     # skip the '# cfrd run_id' comment line
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
     out = {}
     for phase, (w, d) in (("SLAB1", ("w1", "d1")), ("SLAB2", ("w2", "d2"))):
         r = [x for x in rows if x["group"] == phase]

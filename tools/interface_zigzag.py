@@ -87,8 +87,8 @@ def main(argv=None):
         return selftest()
     if not args.csv:
         parser.error("an interface CSV is needed (or --selftest)")
-    with open(args.csv, newline="") as f:
-        rows = list(csv.DictReader(f))
+    with open(args.csv, newline="") as f:     # skip the '# cfrd run_id' comment line
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
     by_stage = {}
     for r in rows:
         by_stage.setdefault(int(r["stage"]), []).append(r)

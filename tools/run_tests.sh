@@ -2,7 +2,7 @@
 # The whole test suite, run by `make test` after the debug build:
 #   1. the Fortran suites (test/main.f90),
 #   2. the command line: bad decks (exit 2 and the message), exit statuses, results left
-#      untouched by a failed run,
+#      untouched by a failed run, result sets (locks, run ids, cfrd --check),
 #   3. the independent peer: the same embankment through CalculiX, and the other tool checks,
 #   4. batch runs, studies, the comparison tool and the regression suite,
 #   5. a short fuzz run of mutated decks (tools/fuzz.py; make fuzz runs 10,000).
@@ -143,6 +143,9 @@ tool_checks() { # name command...
 }
 # A run stopped by SIGTERM / SIGINT keeps its completed stages, bit for bit (issue 18).
 tool_checks "stop" python3 tools/check_stop.py --cfrd "$cfrd" --workdir "$work/stop"
+# Result sets (issue 24): no deck written over, one run per set at a time (DECK.lock), one
+# run id in every file, all files replaced together, cfrd --check.
+tool_checks "result sets" tools/result_set_test.sh "$cfrd" "$work/sets"
 # The independent peer: CalculiX checked on a closed form, then on the same embankment.
 # The shared layer of the tools (tools/cfrdtools): deck fields, results reading, the runner.
 tool_checks "cfrdtools" env PYTHONPATH=tools python3 -m cfrdtools.selftest

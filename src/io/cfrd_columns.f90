@@ -1,5 +1,6 @@
 !> Column texts shared by the listing and the CSV writers: a stage's date and reservoir
-!> level in fixed columns (from its full results or from its summary), and reals for CSV.
+!> level in fixed columns (from its full results or from its summary), reals for CSV, and
+!> the comment line that gives a CSV its run id.
 module cfrd_columns
     use cfrd_kinds, only: dp
     use cfrd_model, only: dry_level
@@ -8,7 +9,7 @@ module cfrd_columns
     implicit none
     private
 
-    public :: csv_real, date_of, level_of
+    public :: csv_real, date_of, level_of, run_id_comment
 
     !> The stage's date in 10 columns ('-' when it has none).
     interface date_of
@@ -21,6 +22,14 @@ module cfrd_columns
     end interface level_of
 
 contains
+
+    !> The first line of every CSV of a result set: '# cfrd run_id ID' (docs/results.md;
+    !> readers skip lines that start with '#').
+    pure function run_id_comment(run_id) result(line)
+        character(len=*), intent(in) :: run_id
+        character(len=:), allocatable :: line
+        line = '# cfrd run_id '//run_id
+    end function run_id_comment
 
     !> A real for CSV: 10 significant digits, no blanks, no negative zero.
     function csv_real(x) result(text)

@@ -19,12 +19,14 @@ module cfrd_hdf5
                     H5T_NATIVE_CHARACTER, h5pcreate_f, h5pclose_f, h5pset_chunk_f, &
                     h5pset_shuffle_f, h5pset_deflate_f, H5P_DATASET_CREATE_F, H5T_NATIVE_REAL
     use cfrd_kinds, only: dp
+    use cfrd_clock, only: iso_timestamp
     use cfrd_error, only: error_t, fatal_error, io_error
     use cfrd_version, only: cfrd_version_string
     use cfrd_model, only: model_t, stage_kind_name, dry_level, law_name
     use cfrd_results, only: results_t, stage_result_t
     use cfrd_interface_io, only: has_interfaces, has_slab, has_contact
     use cfrd_effects, only: effects_text
+    use cfrd_run_identity, only: run_identity_t
     implicit none
     private
 
@@ -33,8 +35,8 @@ module cfrd_hdf5
     public :: write_results_h5, layout_version
 
     !> Version of the layout of docs/results.md (2: streamed, `complete`, history, XDMF
-    !> helpers, zones).
-    integer, parameter :: layout_version = 2
+    !> helpers, zones; 3: result sets: `run_id`, `deck_sha256`, `deck_path`, `set_files`).
+    integer, parameter :: layout_version = 3
 
     !> Datasets of at least min_filtered values are stored in chunks of at most
     !> chunk_values values through the shuffle and deflate filters (filtered_layout).
@@ -92,14 +94,17 @@ contains
         end if
     end subroutine write_results_h5
 
-    !> Create the results file at `path` (replacing it) with the run's description, the
-    !> deck and the mesh, `complete` = 0 and no stage yet. After an error, call
-    !> close_results_h5 all the same: it closes what was opened.
-    subroutine open_results_h5(file, path, model, error, format)
+    !> Create the results file at `path` (replacing it) with the run's description (its
+    !> `identity`: run id, the deck's SHA-256 and path, when given), the deck and the mesh,
+    !> `complete` = 0 and no stage yet. After an error, call close_results_h5 all the same:
+    !> it closes what was opened. `format`: how the values are stored (default: the
+    !> filters at level 1, doubles).
+    subroutine open_results_h5(file, path, model, error, identity, format)
         type(results_file_t), intent(out) :: file
         character(len=*), intent(in) :: path
         type(model_t), intent(in) :: model
         type(error_t), allocatable, intent(out) :: error
+        type(run_identity_t), intent(in), optional :: identity
         type(results_format_t), intent(in), optional :: format
         type(h5_state_t) :: st
         integer(hid_t) :: group_id
@@ -132,8 +137,13 @@ contains
         call attr_int(file%file_id, 'layout_version', layout_version, st)
         call attr_text(file%file_id, 'title', model%title, st)
         call attr_text(file%file_id, 'deck_file', model%deck_file, st)
+        if (present(identity)) then
+            call attr_text(file%file_id, 'run_id', identity%run_id, st)
+            call attr_text(file%file_id, 'deck_sha256', identity%deck_sha256, st)
+            call attr_text(file%file_id, 'deck_path', identity%deck_path, st)
+        end if
         call attr_text(file%file_id, 'effects', effects_text(model%effects), st)
-        call attr_text(file%file_id, 'created', timestamp(), st)
+        call attr_text(file%file_id, 'created', iso_timestamp(), st)
         call attr_text(file%file_id, 'units', 'm, kN, kPa', st)
         call attr_text(file%file_id, 'sign_convention', &
                        'tension positive; stress components xx, yy, zz, xy', st)
@@ -315,19 +325,23 @@ contains
     end subroutine write_stage_h5
 
     !> Close the file: with `complete`, set the root attribute `complete` to 1; `wall_time`
-    !> (s) goes to /run, `failure` (why the run stopped) to the root. Closes every handle
-    !> whatever fails; does nothing when the file is not open.
-    subroutine close_results_h5(file, complete, error, wall_time, failure)
+    !> (s) goes to /run, `failure` (why the run stopped) and `set_files` (the files of the
+    !> result set) to the root. Closes every handle whatever fails; does nothing when the
+    !> file is not open.
+    subroutine close_results_h5(file, complete, error, wall_time, failure, set_files)
         type(results_file_t), intent(inout) :: file
         logical, intent(in) :: complete
         type(error_t), allocatable, intent(out), optional :: error
         real(dp), intent(in), optional :: wall_time
         character(len=*), intent(in), optional :: failure
+        !> the names of the result set's files (without folder), one a line
+        character(len=*), intent(in), optional :: set_files
         type(h5_state_t) :: st
         integer(hid_t) :: group_id
         integer :: hdferr
         if (file%file_id < 0) return
         if (present(failure)) call attr_text(file%file_id, 'failure', failure, st)
+        if (present(set_files)) call attr_text(file%file_id, 'set_files', set_files, st)
         if (present(wall_time)) then
             call open_group(file%file_id, 'run', group_id, st)
             call attr_real(group_id, 'wall_time', [wall_time], st)
@@ -778,15 +792,4 @@ contains
         if (hdferr < 0) call fail(st, 'attribute '//name)
         call h5aclose_f(attr_id, hdferr)
     end subroutine set_attr_int
-
-    !> ISO 8601 local time.
-    function timestamp() result(text)
-        character(len=:), allocatable :: text
-        character(len=8) :: date
-        character(len=10) :: time
-        character(len=5) :: zone
-        call date_and_time(date, time, zone)
-        text = date(1:4)//'-'//date(5:6)//'-'//date(7:8)//'T'//time(1:2)//':'//time(3:4)// &
-               ':'//time(5:6)//zone(1:3)//':'//zone(4:5)
-    end function timestamp
 end module cfrd_hdf5

@@ -10,7 +10,7 @@ module cfrd_interface_io
     use cfrd_model, only: model_t, dry_level, method_name
     use cfrd_results, only: stage_result_t, opening_t
     use cfrd_stage_summary, only: stage_summary_t
-    use cfrd_columns, only: csv_real, date_of, level_of
+    use cfrd_columns, only: run_id_comment, csv_real, date_of, level_of
     use cfrd_strings, only: to_text
     implicit none
     private
@@ -208,43 +208,50 @@ contains
     end subroutine write_interface_tables
 
     !> Open DECK-interface.csv and DECK-slab.csv at `stem` (each only when the deck has
-    !> interfaces or a slab) and write their headers; `suffix` is appended to each name
-    !> (e.g. '.part'). On an error the files opened so far are closed.
-    subroutine open_interface_csv(csv, stem, suffix, model, error)
+    !> interfaces or a slab) and write their headers, after a comment line with the
+    !> `run_id` when given; `suffix` is appended to each name (e.g. '.part'). On an error
+    !> the files opened so far are closed.
+    subroutine open_interface_csv(csv, stem, suffix, model, error, run_id)
         type(interface_csv_t), intent(out) :: csv
         character(len=*), intent(in) :: stem, suffix
         type(model_t), intent(in) :: model
         type(error_t), allocatable, intent(out) :: error
+        character(len=*), intent(in), optional :: run_id
         if (has_interfaces(model)) then
             csv%interface_path = stem//'-interface.csv'//suffix
             call open_csv(csv%interface_path, 'stage,label,date,water_level_m,element,line,'// &
                           'type,group,point,x_m,y_m,s_m,sigma_n_kPa,tau_kPa,du_n_m,du_s_m', &
-                          csv%interface_unit, error)
+                          csv%interface_unit, error, run_id)
         end if
         if (has_contact(model) .and. .not. allocated(error)) then
             csv%contact_path = stem//'-contact.csv'//suffix
             call open_csv(csv%contact_path, 'stage,label,date,water_level_m,pair,node,group,'// &
                           'x_m,y_m,s_m,status,gap_m,slip_m,sigma_n_kPa,tau_kPa', &
-                          csv%contact_unit, error)
+                          csv%contact_unit, error, run_id)
         end if
         if (has_slab(model) .and. .not. allocated(error)) then
             csv%slab_path = stem//'-slab.csv'//suffix
             call open_csv(csv%slab_path, 'stage,label,date,water_level_m,section,s_m,x_m,'// &
                           'y_m,thickness_m,N_kN_per_m,V_kN_per_m,M_kNm_per_m,'// &
-                          'sigma_water_side_kPa,sigma_cushion_side_kPa', csv%slab_unit, error)
+                          'sigma_water_side_kPa,sigma_cushion_side_kPa', csv%slab_unit, error, &
+                          run_id)
         end if
         if (allocated(error)) call close_interface_csv(csv)
     end subroutine open_interface_csv
 
-    !> Open `path` for writing and write its header line (unit 0 on failure).
-    subroutine open_csv(path, header, unit, error)
+    !> Open `path` for writing and write its header line, after the run id's comment line
+    !> when `run_id` is given (unit 0 on failure).
+    subroutine open_csv(path, header, unit, error, run_id)
         character(len=*), intent(in) :: path, header
         integer, intent(out) :: unit
         type(error_t), allocatable, intent(out) :: error
+        character(len=*), intent(in), optional :: run_id
         integer :: stat
         character(len=256) :: msg
         open (newunit=unit, file=path, status='replace', action='write', iostat=stat, &
               iomsg=msg)
+        if (stat == 0 .and. present(run_id)) &
+            write (unit, '(a)', iostat=stat, iomsg=msg) run_id_comment(run_id)
         if (stat == 0) write (unit, '(a)', iostat=stat, iomsg=msg) header
         if (stat /= 0) then
             call fatal_error(error, 'cannot write '//path//': '//trim(msg), io_error)
@@ -353,12 +360,13 @@ contains
 
     !> DECK-openings.csv at `path` (decks with interfaces or contact): width, depth, length,
     !> top point and extreme normal stresses per slab phase and stage (line: the interface
-    !> line, or the contact pair).
-    subroutine write_openings_csv(path, model, summaries, error)
+    !> line, or the contact pair); a first comment line with the `run_id` when given.
+    subroutine write_openings_csv(path, model, summaries, error, run_id)
         character(len=*), intent(in) :: path
         type(model_t), intent(in) :: model
         type(stage_summary_t), intent(in) :: summaries(:)
         type(error_t), allocatable, intent(out) :: error
+        character(len=*), intent(in), optional :: run_id
         integer :: unit, stat, s, k
         character(len=256) :: msg
         open (newunit=unit, file=path, status='replace', action='write', iostat=stat, &
@@ -367,6 +375,7 @@ contains
             call fatal_error(error, 'cannot write '//path//': '//trim(msg), io_error)
             return
         end if
+        if (present(run_id)) write (unit, '(a)') run_id_comment(run_id)
         write (unit, '(a)') 'stage,label,date,water_level_m,line,group,width_m,depth_m,'// &
             'length_m,top_x_m,top_y_m,min_sigma_n_kPa,max_sigma_n_kPa,max_gap_m'
         do s = 1, size(summaries)

@@ -18,12 +18,14 @@ module cfrd_legacy_listing
 
 contains
 
-    !> Open the legacy-style listing at `path` and write its heading.
-    subroutine open_legacy_listing(path, model, unit, error)
+    !> Open the legacy-style listing at `path` and write its heading (with the `run_id` of
+    !> its result set when given).
+    subroutine open_legacy_listing(path, model, unit, error, run_id)
         character(len=*), intent(in) :: path
         type(model_t), intent(in) :: model
         integer, intent(out) :: unit
         type(error_t), allocatable, intent(out) :: error
+        character(len=*), intent(in), optional :: run_id
         integer :: stat
         character(len=256) :: msg
         open (newunit=unit, file=path, status='replace', action='write', iostat=stat, &
@@ -32,6 +34,8 @@ contains
             cfrd_version_string//'   LEGACY-STYLE LISTING   DECK '//model%deck_file, &
             ' TITLE '//model%title, &
             ' UNITS M, KN, KPA; TENSION POSITIVE; DISPLACEMENTS SINCE EACH NODE''S PLACEMENT'
+        if (stat == 0 .and. present(run_id)) &
+            write (unit, '(a)', iostat=stat, iomsg=msg) ' RUN ID '//run_id
         ! Column 1 holds the carriage control of the line printers: '1' starts a page.
         if (stat /= 0) then
             call fatal_error(error, 'cannot write the legacy listing '//path//': '// &

@@ -12,10 +12,11 @@ module cfrd_listing
                           scheme_name, search_name
     use cfrd_results, only: stage_result_t
     use cfrd_stage_summary, only: stage_summary_t
-    use cfrd_columns, only: csv_real, date_of, level_of
+    use cfrd_columns, only: csv_real, date_of, level_of, run_id_comment
     use cfrd_interface_io, only: write_opening_history, write_interface_tables, &
                                  write_opening_summary
     use cfrd_effects, only: effects_text
+    use cfrd_run_identity, only: run_identity_t
     implicit none
     private
 
@@ -26,14 +27,16 @@ module cfrd_listing
 contains
 
     !> Write the listing of a run to `path`: `summaries` of every stage, `last` the full
-    !> results of the last one, `wall_time` (s) of the analysis.
-    subroutine write_listing(path, model, summaries, last, wall_time, error)
+    !> results of the last one, `wall_time` (s) of the analysis; the banner names the run
+    !> (`identity`: run id and the deck's SHA-256) when given.
+    subroutine write_listing(path, model, summaries, last, wall_time, error, identity)
         character(len=*), intent(in) :: path
         type(model_t), intent(in) :: model
         type(stage_summary_t), intent(in) :: summaries(:)
         type(stage_result_t), intent(in) :: last
         real(dp), intent(in) :: wall_time
         type(error_t), allocatable, intent(out) :: error
+        type(run_identity_t), intent(in), optional :: identity
         integer :: unit, stat
         character(len=256) :: msg
         open (newunit=unit, file=path, status='replace', action='write', iostat=stat, &
@@ -42,7 +45,7 @@ contains
             call fatal_error(error, 'cannot write the listing '//path//': '//trim(msg), io_error)
             return
         end if
-        call write_banner(unit, model)
+        call write_banner(unit, model, identity)
         call write_echo(unit, model)
         call write_model_summary(unit, model)
         call write_stage_table(unit, model, summaries)
@@ -59,9 +62,10 @@ contains
         close (unit)
     end subroutine write_listing
 
-    subroutine write_banner(unit, model)
+    subroutine write_banner(unit, model, identity)
         integer, intent(in) :: unit
         type(model_t), intent(in) :: model
+        type(run_identity_t), intent(in), optional :: identity
         character(len=8) :: date
         character(len=10) :: time
         call date_and_time(date, time)
@@ -69,8 +73,11 @@ contains
             ' CFRD '//cfrd_version_string//'   staged finite-element analysis of '// &
             'concrete-faced rockfill dams', &
             ' RUN OF '//date(1:4)//'-'//date(5:6)//'-'//date(7:8)//' '//time(1:2)//':'// &
-            time(3:4)//':'//time(5:6), &
-            ' DECK   '//model%deck_file, &
+            time(3:4)//':'//time(5:6)
+        ! The run id ties the listing to the other files of its result set (docs/results.md).
+        if (present(identity)) write (unit, '(a)') ' RUN ID '//identity%run_id, &
+            ' DECK SHA-256 '//identity%deck_sha256
+        write (unit, '(a)') ' DECK   '//model%deck_file, &
             ' TITLE  '//model%title, rule
     end subroutine write_banner
 
@@ -206,12 +213,14 @@ contains
         end do
     end subroutine write_gauge_tables
 
-    !> The gauge histories as CSV (one row per stage) at `path`.
-    subroutine write_gauge_csv(path, model, summaries, error)
+    !> The gauge histories as CSV (one row per stage) at `path`; a first comment line
+    !> '# cfrd run_id ID' when `run_id` is given.
+    subroutine write_gauge_csv(path, model, summaries, error, run_id)
         character(len=*), intent(in) :: path
         type(model_t), intent(in) :: model
         type(stage_summary_t), intent(in) :: summaries(:)
         type(error_t), allocatable, intent(out) :: error
+        character(len=*), intent(in), optional :: run_id
         integer :: unit, stat, s, g
         character(len=256) :: msg
         character(len=:), allocatable :: level
@@ -222,6 +231,7 @@ contains
                              trim(msg), io_error)
             return
         end if
+        if (present(run_id)) write (unit, '(a)') run_id_comment(run_id)
         write (unit, '(a)', advance='no') 'stage,label,date,water_level_m'
         do g = 1, size(model%gauges)
             write (unit, '(a)', advance='no') ','//trim(model%gauges(g)%name)//'_ux_m,'// &

@@ -17,12 +17,14 @@ module cfrd_xdmf
 contains
 
     !> Write the XDMF file `path` for the first `nstages` stages of the results file whose
-    !> name, relative to the XDMF file, is `h5_name`.
-    subroutine write_xdmf(path, h5_name, model, nstages, error, single)
+    !> name, relative to the XDMF file, is `h5_name`; a comment gives the `run_id` of the
+    !> result set when given.
+    subroutine write_xdmf(path, h5_name, model, nstages, error, run_id, single)
         character(len=*), intent(in) :: path, h5_name
         type(model_t), intent(in) :: model
         integer, intent(in) :: nstages
         type(error_t), allocatable, intent(out) :: error
+        character(len=*), intent(in), optional :: run_id
         !> the stages' real datasets are in single precision (cfrd --float32)
         logical, intent(in), optional :: single
         character(len=1) :: fp
@@ -44,7 +46,10 @@ contains
         nnode = to_text(model%mesh%nnode)
         nelem = to_text(model%mesh%nelem)
         write (unit, '(a)', iostat=stat, iomsg=msg) '<?xml version="1.0" ?>', &
-            '<!DOCTYPE Xdmf SYSTEM "Xdmf.dtd" []>', &
+            '<!DOCTYPE Xdmf SYSTEM "Xdmf.dtd" []>'
+        if (present(run_id) .and. stat == 0) &
+            write (unit, '(a)', iostat=stat, iomsg=msg) '<!-- cfrd run_id '//run_id//' -->'
+        if (stat == 0) write (unit, '(a)', iostat=stat, iomsg=msg) &
             '<Xdmf Version="3.0">', &
             '  <Domain>', &
             '    <Grid Name="'//xml_escape(model%title)//'" GridType="Collection" '// &
