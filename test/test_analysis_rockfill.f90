@@ -12,8 +12,9 @@ module test_analysis_rockfill
     use cfrd_results, only: results_t
     use cfrd_linear_static, only: solve_linear_static
     use cfrd_duncan_eb, only: eb_params_t, eb_initial_modulus, eb_failure_deviator, &
-                              eb_unload_modulus, nu_t_max
-    use cfrd_material_law, only: eb_parameters
+                              eb_unload_modulus, nu_t_max, eb_tangent, eb_state_t, &
+                              eb_stress_state, eb_moduli_gradient
+    use cfrd_material_law, only: eb_parameters, material_update, material_update_tangent
     use cfrd_test_models, only: new_model, elastic_material
     implicit none
     private
@@ -42,7 +43,8 @@ contains
                 new_unittest('triaxial_volumetric_strain', test_volumetric), &
                 new_unittest('unload_reload_slope', test_unload_reload), &
                 new_unittest('midpoint_second_order_euler_first', test_rates), &
-                new_unittest('newton_triaxial_with_unloading', test_newton) &
+                new_unittest('newton_triaxial_with_unloading', test_newton), &
+                new_unittest('eb_consistent_tangent', test_eb_tangent) &
                 ]
     end subroutine collect_analysis_rockfill
 
@@ -285,4 +287,126 @@ contains
         call check(error, -0.2_dp*qf/(eps1(7) - eps1(6)), eb_unload_modulus(p, 500.0_dp), &
                    'Newton: unloading slope', rel=1.0e-5_dp)
     end subroutine test_newton
+
+    !> Newton's tangent of the E-B midpoint update (cfrd_material_law:
+    !> material_update_tangent, docs/theory.md section 9) against central differences of the
+    !> update itself, at points inside every branch of the law (away from the kinks, where
+    !> the update is smooth): loading with the Poisson bounds inactive (and a cohesion),
+    !> the stress-level cap, the sigma3 floor, each Poisson bound, the friction-angle clamp,
+    !> the unloading transition and full unloading, Eur below the loading modulus, and an
+    !> axisymmetric increment with hoop strain. Each case first asserts that its half-way
+    !> stress lies in the branch it is named for. 1e-6 of the largest entry.
+    subroutine test_eb_tangent(error)
+        type(error_t), allocatable, intent(out) :: error
+        integer, parameter :: ncase = 10
+        character(len=*), parameter :: names(ncase) = [character(len=28) :: &
+            'loading, cohesion', 'stress-level cap', 'sigma3 floor', 'Poisson lower bound', &
+            'Poisson upper bound', 'friction-angle clamp', 'unloading transition', &
+            'unloading (Eur)', 'Eur below Et', 'axisymmetric increment']
+        real(dp), parameter :: s0(4, ncase) = reshape([ &
+            -300.0_dp, -700.0_dp, -300.0_dp, 50.0_dp, &
+            -100.0_dp, -900.0_dp, -150.0_dp, 20.0_dp, &
+            5.0_dp, -60.0_dp, -10.0_dp, 3.0_dp, &
+            -500.0_dp, -620.0_dp, -520.0_dp, 10.0_dp, &
+            -300.0_dp, -700.0_dp, -300.0_dp, 40.0_dp, &
+            -60.0_dp, -200.0_dp, -80.0_dp, 10.0_dp, &
+            -400.0_dp, -900.0_dp, -450.0_dp, 60.0_dp, &
+            -400.0_dp, -900.0_dp, -450.0_dp, 60.0_dp, &
+            -400.0_dp, -900.0_dp, -450.0_dp, 60.0_dp, &
+            -300.0_dp, -700.0_dp, -300.0_dp, 50.0_dp], [4, ncase])
+        real(dp), parameter :: de0(4, ncase) = reshape([ &
+            -1.0e-4_dp, -3.0e-4_dp, 0.0_dp, 2.0e-4_dp, &
+            -1.0e-4_dp, -4.0e-4_dp, 0.0_dp, 1.0e-4_dp, &
+            1.0e-4_dp, -3.0e-4_dp, 0.0_dp, 1.0e-4_dp, &
+            -1.0e-4_dp, -2.0e-4_dp, 0.0_dp, 1.0e-4_dp, &
+            -1.0e-4_dp, -3.0e-4_dp, 0.0_dp, 2.0e-4_dp, &
+            -1.0e-4_dp, -3.0e-4_dp, 0.0_dp, 1.0e-4_dp, &
+            -1.0e-5_dp, 2.0e-5_dp, 0.0_dp, -1.0e-5_dp, &
+            -1.0e-5_dp, 2.0e-5_dp, 0.0_dp, -1.0e-5_dp, &
+            -1.0e-5_dp, 2.0e-5_dp, 0.0_dp, -1.0e-5_dp, &
+            -1.0e-4_dp, -3.0e-4_dp, -0.5e-4_dp, 2.0e-4_dp], [4, ncase])
+        type(material_t) :: mat
+        type(eb_params_t) :: p
+        type(eb_state_t) :: st
+        real(dp) :: history(2), c(4, 4), fd(4, 4), plus(4), minus(4), mid(4), de(4), h
+        real(dp) :: d(4, 4), ss, et, bt, det(4), dbt(4)
+        logical :: in_branch
+        integer :: k, j
+        do k = 1, ncase
+            mat = table3_material(3)
+            history = 0.0_dp
+            select case (k)
+            case (1)
+                mat%cohesion = 20.0_dp
+            case (5)
+                mat%k_bulk = 20000.0_dp
+            case (6)
+                mat%phi0 = 88.0_dp
+                mat%dphi = 10.0_dp
+            case (7, 8, 9)
+                if (k == 9) mat%k_unload = 0.5_dp*mat%k_modulus
+                ss = eb_stress_state(eb_parameters(mat, pa), s0(:, k))
+                history(1) = ss/merge(0.5_dp, 0.9_dp, k == 8)
+            end select
+            p = eb_parameters(mat, pa)
+            call material_update(mat, pa, s0(:, k), [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], &
+                                 history, de0(:, k), .true., plus, mid)
+            call eb_tangent(p, mid, history(1), d, st)
+            ss = eb_stress_state(p, mid)
+            select case (k)
+            case (1, 10)
+                in_branch = st%level > 0.0_dp .and. st%level < p%level_cap .and. &
+                            st%sigma3 > p%sigma3_floor .and. st%nu_t > 0.0_dp .and. &
+                            st%nu_t < nu_t_max .and. .not. st%unloading
+            case (2)
+                in_branch = st%level == p%level_cap .and. st%sigma3 > p%sigma3_floor
+            case (3)
+                in_branch = st%sigma3 < p%sigma3_floor .and. st%level < p%level_cap
+            case (4)
+                in_branch = st%nu_t == 0.0_dp .and. st%sigma3 > p%sigma3_floor
+            case (5)
+                in_branch = abs(st%nu_t - nu_t_max) < 1.0e-14_dp
+            case (6)
+                in_branch = st%phi == 89.0_dp .and. st%sigma3 > p%sigma3_floor
+            case (7)
+                in_branch = ss < history(1) .and. ss > 0.75_dp*history(1)
+            case (8)
+                in_branch = ss < 0.75_dp*history(1)
+            case (9)
+                in_branch = st%unloading .and. eb_unload_modulus(p, st%sigma3) < st%et
+            end select
+            call check(error, in_branch, 'E-B tangent case '//trim(names(k))// &
+                       ': the half-way stress is not in its branch')
+            if (allocated(error)) return
+            ! the moduli of the gradient routine are those of eb_tangent
+            call eb_moduli_gradient(p, mid, history(1), et, bt, det, dbt)
+            call check(error, et, st%et, 'E-B tangent case '//trim(names(k))//': Et', &
+                       rel=1.0e-13_dp)
+            if (allocated(error)) return
+            call check(error, bt, st%bt, 'E-B tangent case '//trim(names(k))//': Bt', &
+                       rel=1.0e-13_dp)
+            if (allocated(error)) return
+            call material_update_tangent(mat, pa, s0(:, k), [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], &
+                                         history, de0(:, k), c)
+            h = 1.0e-4_dp*maxval(abs(de0(:, k)))
+            do j = 1, 4
+                de = de0(:, k)
+                de(j) = de(j) + h
+                call material_update(mat, pa, s0(:, k), [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], &
+                                     history, de, .true., plus, mid)
+                de(j) = de(j) - 2.0_dp*h
+                call material_update(mat, pa, s0(:, k), [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], &
+                                     history, de, .true., minus, mid)
+                fd(:, j) = (plus - minus)/(2.0_dp*h)
+            end do
+            call check(error, maxval(abs(c - fd)) <= 1.0e-6_dp*maxval(abs(fd)), &
+                       'E-B tangent, '//trim(names(k))//': analytic and central '// &
+                       'differences differ')
+            if (allocated(error)) return
+            ! the change of the moduli along the increment matters: C is not D(sigma_mid)
+            call check(error, maxval(abs(c - d)) > 1.0e-4_dp*maxval(abs(fd)), &
+                       'E-B tangent, '//trim(names(k))//': C equals D(sigma_mid)')
+            if (allocated(error)) return
+        end do
+    end subroutine test_eb_tangent
 end module test_analysis_rockfill

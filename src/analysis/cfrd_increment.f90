@@ -192,7 +192,7 @@ contains
                     return
                 end if
                 ! The consistent tangent: the derivative of the midpoint stress update with
-                ! respect to the strain increment, by finite differences at each point.
+                ! respect to the strain increment at each point (material_update_tangent).
                 call factorise_at(model, library, state, stress_mid, system, result, context, &
                                   error, consistent_tangents(model, library, state, du), contact)
                 if (allocated(error)) return
@@ -358,24 +358,28 @@ contains
     end function stress_after
 
     !> d sigma_end / d(delta eps) of the stress update at every point of the active elements
-    !> (cfrd_material_law: material_update_tangent), Newton's tangent.
+    !> (cfrd_material_law: material_update_tangent), Newton's tangent; with creep, at the
+    !> start stress integrate_stress uses (less half the increment's relaxed stresses).
     function consistent_tangents(model, library, state, du) result(c)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(in) :: state
         real(dp), intent(in) :: du(:, :)
         real(dp), allocatable :: c(:, :, :, :)
-        real(dp) :: strain(4, ngauss)
+        real(dp) :: strain(4, ngauss), start(4)
         integer :: e, ng, ig
         allocate (c(4, 4, ngauss, model%mesh%nelem), source=0.0_dp)
         do e = 1, model%mesh%nelem
             if (.not. state%active(e)) cycle
             call element_strains(model, library, e, du, strain, ng)
             do ig = 1, ng
+                start = state%stress(:, ig, e)
+                if (allocated(state%creep_stress)) &
+                    start = start - 0.5_dp*state%creep_stress(:, ig, e)
                 call material_update_tangent(model%materials(model%mesh%material(e)), &
-                                             model%pa, state%stress(:, ig, e), &
-                                             state%strain(:, ig, e), state%history(:, ig, e), &
-                                             strain(:, ig), c(:, :, ig, e))
+                                             model%pa, start, state%strain(:, ig, e), &
+                                             state%history(:, ig, e), strain(:, ig), &
+                                             c(:, :, ig, e))
             end do
         end do
     end function consistent_tangents
