@@ -73,13 +73,15 @@ contains
     !> Stress after the strain increment de from (stress, strain, history): with `midpoint`
     !> sigma + D(sigma + D(sigma) de/2) de, else sigma + D(sigma) de (docs/theory.md
     !> section 9); the Goodman law updates its normal traction exactly and caps the shear
-    !> at the Coulomb limit (section 12). stress_mid: the half-way stress.
+    !> at the Coulomb limit (section 12). stress_mid: the half-way stress. d_start: D(sigma)
+    !> when the caller has it (Newton keeps it over an increment's iterations).
     pure subroutine material_update(mat, pa, stress, strain, history, de, midpoint, &
-                                    stress_new, stress_mid)
+                                    stress_new, stress_mid, d_start)
         type(material_t), intent(in) :: mat
         real(dp), intent(in) :: pa, stress(4), strain(4), history(nhistory), de(4)
         logical, intent(in) :: midpoint
         real(dp), intent(out) :: stress_new(4), stress_mid(4)
+        real(dp), intent(in), optional :: d_start(4, 4)
         real(dp) :: d(4, 4)
         if (mat%law == law_goodman) then
             stress_new = 0.0_dp
@@ -88,7 +90,11 @@ contains
                                 midpoint, stress_new(1:2), stress_mid(1:2))
             return
         end if
-        call material_tangent(mat, pa, stress, strain, history, d)
+        if (present(d_start)) then
+            d = d_start
+        else
+            call material_tangent(mat, pa, stress, strain, history, d)
+        end if
         stress_mid = stress + 0.5_dp*matmul(d, de)
         if (midpoint) call material_tangent(mat, pa, stress_mid, strain + 0.5_dp*de, &
                                             history, d)
@@ -103,13 +109,15 @@ contains
     !> of section 2, Gt = 3 Bt Et / (9 Bt - Et)) and the moduli's gradients come from
     !> eb_moduli_gradient; not symmetric in general. The Goodman law differentiates its exact
     !> update (goodman_update_tangent), with floors that keep the matrix regular where a
-    !> joint slips or opens. A linear law's update is linear: C = D.
-    pure subroutine material_update_tangent(mat, pa, stress, strain, history, de, c)
+    !> joint slips or opens. A linear law's update is linear: C = D. d_start: D(sigma) when
+    !> the caller has it.
+    pure subroutine material_update_tangent(mat, pa, stress, strain, history, de, c, d_start)
         type(material_t), intent(in) :: mat
         real(dp), intent(in) :: pa, stress(4), strain(4), history(nhistory), de(4)
         real(dp), intent(out) :: c(4, 4)
+        real(dp), intent(in), optional :: d_start(4, 4)
         real(dp), parameter :: m(4) = [1.0_dp, 1.0_dp, 1.0_dp, 0.0_dp]
-        real(dp) :: d_start(4, 4), mid(4), et, bt, det(4), dbt(4), dgt(4), nine_b_e
+        real(dp) :: d0(4, 4), mid(4), et, bt, det(4), dbt(4), dgt(4), nine_b_e
         real(dp) :: pde(4), trace, dsigma(4, 4)
         integer :: j
         select case (mat%law)
@@ -118,8 +126,12 @@ contains
             call goodman_update_tangent(goodman_parameters(mat, pa), stress(1:2), strain(1), &
                                         de(1:2), c(1:2, 1:2))
         case (law_duncan_eb)
-            call eb_tangent(eb_parameters(mat, pa), stress, history(1), d_start)
-            mid = stress + 0.5_dp*matmul(d_start, de)
+            if (present(d_start)) then
+                d0 = d_start
+            else
+                call eb_tangent(eb_parameters(mat, pa), stress, history(1), d0)
+            end if
+            mid = stress + 0.5_dp*matmul(d0, de)
             call eb_moduli_gradient(eb_parameters(mat, pa), mid, history(1), et, bt, det, dbt)
             c = elastic_dmatrix(et, (3.0_dp*bt - et)/(6.0_dp*bt))
             ! d(D(s) de)/ds = m tr(de) dBt^T + (P de) dGt^T
@@ -131,7 +143,7 @@ contains
             do j = 1, 4
                 dsigma(:, j) = m*trace*dbt(j) + pde*dgt(j)
             end do
-            c = c + 0.5_dp*matmul(dsigma, d_start)
+            c = c + 0.5_dp*matmul(dsigma, d0)
         case default
             call material_tangent(mat, pa, stress, strain, history, c)
         end select
