@@ -12,7 +12,7 @@ module cfrd_increment
     use cfrd_model, only: model_t, solver_euler, solver_newton
     use cfrd_results, only: stage_result_t
     use cfrd_material_law, only: is_linear, update_history, material_update, &
-                                 material_update_tangent
+                                 material_update_tangent, material_tangent
     use cfrd_assembly, only: element_box_t, dof_map_t, assemble_tangent, internal_forces, &
                              gather
     use cfrd_contact, only: contact_t, contact_geometry
@@ -106,7 +106,7 @@ contains
         type(error_t), allocatable, intent(out) :: error
         real(dp), allocatable :: du(:, :), stress_end(:, :, :), stress_mid(:, :, :)
         real(dp) :: residual, load_norm, recent, t0, floor
-        real(dp), allocatable :: rhs_stress(:, :, :)
+        real(dp), allocatable :: rhs_stress(:, :, :), d_start(:, :, :, :), f_end(:, :)
         integer :: iteration
         type(contact_t), allocatable :: contact
         logical :: changed, searched
@@ -159,8 +159,11 @@ contains
                                   creep_share=1.0_dp)
         end if
         residual = out_of_balance(model, library, state%active, stress_end, f_target, &
-                                  system%dofmap, contact, roundoff=floor)/load_norm
+                                  system%dofmap, contact, roundoff=floor, force=f_end)/load_norm
         if (model%solver == solver_newton) then
+            ! The start tangents D(sigma) of the stress update, the same in every iteration.
+            d_start = start_tangents(model, library, state)
+            result%newton_residuals = [residual]
             iteration = 0
             recent = huge(1.0_dp)
             ! Converged when the residual relative to the whole model's load is below TOL, or
@@ -192,17 +195,19 @@ contains
                     return
                 end if
                 ! The consistent tangent: the derivative of the midpoint stress update with
-                ! respect to the strain increment, by finite differences at each point.
+                ! respect to the strain increment at each point (material_update_tangent).
                 call factorise_at(model, library, state, stress_mid, system, result, context, &
-                                  error, consistent_tangents(model, library, state, du), contact)
+                                  error, consistent_tangents(model, library, state, du, d_start), &
+                                  contact)
                 if (allocated(error)) return
                 block
-                    real(dp), allocatable :: ddu(:, :), du_try(:, :), stress_try(:, :, :)
+                    real(dp), allocatable :: ddu(:, :), du_try(:, :), stress_try(:, :, :), &
+                                             f_try(:, :)
                     real(dp) :: step, trial
                     integer :: halving
-                    call solve_out_of_balance(model, library, state, stress_end, f_target, &
-                                              0.0_dp*du_prescribed, system, ddu, result, &
-                                              context, error, contact, du)
+                    ! f_target - f_int(stress_end): the internal forces of the residual above
+                    call solve_system(model, f_target - f_end, 0.0_dp*du_prescribed, system, &
+                                      ddu, result, context, error, contact, du)
                     if (allocated(error)) return
                     ! Backtracking line search: the E-B tangent has kinks (stress-level cap,
                     ! sigma3 floor, Poisson bounds, unloading transition) where a full
@@ -212,18 +217,21 @@ contains
                     do halving = 0, 6
                         du_try = du + step*ddu
                         call integrate_stress(model, library, state, du_try, stress_try, &
-                                              stress_mid, .true., creep_share=1.0_dp)
+                                              stress_mid, .true., creep_share=1.0_dp, &
+                                              d_start=d_start)
                         trial = out_of_balance(model, library, state%active, stress_try, &
                                                f_target, system%dofmap, contact, &
-                                               roundoff=floor)/load_norm
+                                               roundoff=floor, force=f_try)/load_norm
                         if (trial < residual .or. state%has_contact) exit
                         step = 0.5_dp*step
                     end do
                     du = du_try
                     stress_end = stress_try
+                    f_end = f_try
                     residual = trial
                 end block
                 result%iterations = result%iterations + 1
+                result%newton_residuals = [result%newton_residuals, residual]
             end do
         end if
         if (.not. (residual < huge(1.0_dp))) then
@@ -303,7 +311,7 @@ contains
     !> the midpoint when `midpoint` (docs/theory.md sections 9 and 12). `stress_mid`
     !> returns the half-way stresses of that integration.
     subroutine integrate_stress(model, library, state, du, stress_end, stress_mid, midpoint, &
-                                stress, creep_share)
+                                stress, creep_share, d_start)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(in) :: state
@@ -316,6 +324,9 @@ contains
         !> the increment, come off the law's update over du (the initial-strain method with
         !> the load of the increment's solve, cfrd_creep_step)
         real(dp), intent(in), optional :: creep_share
+        !> (4, 4, ngauss, nelem) the tangents at the start stresses, when the caller has
+        !> them (start_tangents)
+        real(dp), intent(in), optional :: d_start(:, :, :, :)
         real(dp) :: strain(4, ngauss), start(4)
         integer :: e, ng, ig
         logical :: creeping
@@ -335,10 +346,18 @@ contains
             do ig = 1, ng
                 start = stress_end(:, ig, e)
                 if (creeping) start = start - 0.5_dp*creep_share*state%creep_stress(:, ig, e)
-                call material_update(model%materials(model%mesh%material(e)), model%pa, &
-                                     start, state%strain(:, ig, e), &
-                                     state%history(:, ig, e), strain(:, ig), midpoint, &
-                                     stress_end(:, ig, e), stress_mid(:, ig, e))
+                if (present(d_start)) then
+                    call material_update(model%materials(model%mesh%material(e)), model%pa, &
+                                         start, state%strain(:, ig, e), &
+                                         state%history(:, ig, e), strain(:, ig), midpoint, &
+                                         stress_end(:, ig, e), stress_mid(:, ig, e), &
+                                         d_start(:, :, ig, e))
+                else
+                    call material_update(model%materials(model%mesh%material(e)), model%pa, &
+                                         start, state%strain(:, ig, e), &
+                                         state%history(:, ig, e), strain(:, ig), midpoint, &
+                                         stress_end(:, ig, e), stress_mid(:, ig, e))
+                end if
                 if (creeping) stress_end(:, ig, e) = stress_end(:, ig, e) - &
                                                      0.5_dp*creep_share* &
                                                      state%creep_stress(:, ig, e)
@@ -357,13 +376,43 @@ contains
                               stress)
     end function stress_after
 
-    !> d sigma_end / d(delta eps) of the stress update at every point of the active elements
-    !> (cfrd_material_law: material_update_tangent), Newton's tangent.
-    function consistent_tangents(model, library, state, du) result(c)
+    !> The tangent D at the start stress of every point of the active elements, as the
+    !> Newton iterations' stress updates use it (integrate_stress with creep_share = 1: with
+    !> creep, the start stress less half the increment's relaxed stresses).
+    function start_tangents(model, library, state) result(d)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(in) :: state
-        real(dp), intent(in) :: du(:, :)
+        real(dp), allocatable :: d(:, :, :, :)
+        integer :: e, ig
+        allocate (d(4, 4, ngauss, model%mesh%nelem), source=0.0_dp)
+        do e = 1, model%mesh%nelem
+            if (.not. state%active(e)) cycle
+            do ig = 1, library(model%mesh%kind(e))%element%gauss_points()
+                call material_tangent(model%materials(model%mesh%material(e)), model%pa, &
+                                      start_stress(state, ig, e), state%strain(:, ig, e), &
+                                      state%history(:, ig, e), d(:, :, ig, e))
+            end do
+        end do
+    end function start_tangents
+
+    !> The start stress of point ig of element e in the Newton iterations' stress updates.
+    pure function start_stress(state, ig, e) result(start)
+        type(state_t), intent(in) :: state
+        integer, intent(in) :: ig, e
+        real(dp) :: start(4)
+        start = state%stress(:, ig, e)
+        if (allocated(state%creep_stress)) start = start - 0.5_dp*state%creep_stress(:, ig, e)
+    end function start_stress
+
+    !> d sigma_end / d(delta eps) of the stress update at every point of the active elements
+    !> (cfrd_material_law: material_update_tangent), Newton's tangent, from the start
+    !> stresses and their tangents d_start (start_tangents).
+    function consistent_tangents(model, library, state, du, d_start) result(c)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        type(state_t), intent(in) :: state
+        real(dp), intent(in) :: du(:, :), d_start(:, :, :, :)
         real(dp), allocatable :: c(:, :, :, :)
         real(dp) :: strain(4, ngauss)
         integer :: e, ng, ig
@@ -373,9 +422,9 @@ contains
             call element_strains(model, library, e, du, strain, ng)
             do ig = 1, ng
                 call material_update_tangent(model%materials(model%mesh%material(e)), &
-                                             model%pa, state%stress(:, ig, e), &
+                                             model%pa, start_stress(state, ig, e), &
                                              state%strain(:, ig, e), state%history(:, ig, e), &
-                                             strain(:, ig), c(:, :, ig, e))
+                                             strain(:, ig), c(:, :, ig, e), d_start(:, :, ig, e))
             end do
         end do
     end function consistent_tangents
@@ -384,7 +433,7 @@ contains
     !> point cannot resolve: 64 eps |sum of the magnitudes of the terms| (the forces of the
     !> elements, the contact and the loads that meet at each free dof).
     function out_of_balance(model, library, active, stress, f_target, dofmap, contact, &
-                            worst, roundoff) result(norm)
+                            worst, roundoff, force) result(norm)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         logical, intent(in) :: active(:)
@@ -394,6 +443,8 @@ contains
         !> 'node N (fx, fy kN/m)': the node of the largest out-of-balance force
         character(len=:), allocatable, intent(out), optional :: worst
         real(dp), intent(out), optional :: roundoff
+        !> (2, nnode) the elements' internal forces f_int(stress), without the contact's
+        real(dp), allocatable, intent(out), optional :: force(:, :)
         real(dp) :: norm
         real(dp), allocatable :: f_int(:, :), f_contact(:, :), r(:, :), magnitude(:, :)
         integer :: node
@@ -405,6 +456,7 @@ contains
         else
             call internal_forces(model, library, active, stress, f_int)
         end if
+        if (present(force)) force = f_int
         if (present(contact)) then
             allocate (f_contact(2, model%mesh%nnode))
             call contact_forces(contact, f_contact)

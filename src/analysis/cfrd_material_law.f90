@@ -8,7 +8,8 @@ module cfrd_material_law
     use cfrd_kinds, only: dp
     use cfrd_model, only: material_t, law_elastic, law_duncan_eb, law_goodman
     use cfrd_elastic, only: elastic_dmatrix
-    use cfrd_duncan_eb, only: eb_params_t, eb_tangent, eb_stress_state, eb_state_t
+    use cfrd_duncan_eb, only: eb_params_t, eb_tangent, eb_stress_state, eb_state_t, &
+                              eb_moduli_gradient
     use cfrd_goodman, only: goodman_params_t, goodman_tangent, goodman_update, &
                             goodman_update_tangent
     implicit none
@@ -72,13 +73,15 @@ contains
     !> Stress after the strain increment de from (stress, strain, history): with `midpoint`
     !> sigma + D(sigma + D(sigma) de/2) de, else sigma + D(sigma) de (docs/theory.md
     !> section 9); the Goodman law updates its normal traction exactly and caps the shear
-    !> at the Coulomb limit (section 12). stress_mid: the half-way stress.
+    !> at the Coulomb limit (section 12). stress_mid: the half-way stress. d_start: D(sigma)
+    !> when the caller has it (Newton keeps it over an increment's iterations).
     pure subroutine material_update(mat, pa, stress, strain, history, de, midpoint, &
-                                    stress_new, stress_mid)
+                                    stress_new, stress_mid, d_start)
         type(material_t), intent(in) :: mat
         real(dp), intent(in) :: pa, stress(4), strain(4), history(nhistory), de(4)
         logical, intent(in) :: midpoint
         real(dp), intent(out) :: stress_new(4), stress_mid(4)
+        real(dp), intent(in), optional :: d_start(4, 4)
         real(dp) :: d(4, 4)
         if (mat%law == law_goodman) then
             stress_new = 0.0_dp
@@ -87,38 +90,63 @@ contains
                                 midpoint, stress_new(1:2), stress_mid(1:2))
             return
         end if
-        call material_tangent(mat, pa, stress, strain, history, d)
+        if (present(d_start)) then
+            d = d_start
+        else
+            call material_tangent(mat, pa, stress, strain, history, d)
+        end if
         stress_mid = stress + 0.5_dp*matmul(d, de)
         if (midpoint) call material_tangent(mat, pa, stress_mid, strain + 0.5_dp*de, &
                                             history, d)
         stress_new = stress + matmul(d, de)
     end subroutine material_update
 
-    !> d stress_new / d de of the midpoint update: the tangent that makes Newton's
-    !> iterations converge fast on the E-B law, whose tangent changes along an increment,
-    !> by forward differences (step sqrt(eps) of the increment); not symmetric in general.
-    !> The Goodman law differentiates its exact update analytically (goodman_update_tangent),
-    !> with floors that keep the matrix regular where a joint slips or opens.
-    pure subroutine material_update_tangent(mat, pa, stress, strain, history, de, c)
+    !> d stress_new / d de of the midpoint update (Newton's tangent; docs/theory.md section
+    !> 9, "Consistent tangent"). E-B: with sigma_mid = sigma + D(sigma) de/2 and
+    !> stress_new = sigma + D(sigma_mid) de,
+    !>     C = D(sigma_mid) + [d(D(s) de)/ds at s = sigma_mid] D(sigma)/2,
+    !> where D(s) de = Bt tr(de) m + Gt P de (m = (1, 1, 1, 0), P the deviatoric projector
+    !> of section 2, Gt = 3 Bt Et / (9 Bt - Et)) and the moduli's gradients come from
+    !> eb_moduli_gradient; not symmetric in general. The Goodman law differentiates its exact
+    !> update (goodman_update_tangent), with floors that keep the matrix regular where a
+    !> joint slips or opens. A linear law's update is linear: C = D. d_start: D(sigma) when
+    !> the caller has it.
+    pure subroutine material_update_tangent(mat, pa, stress, strain, history, de, c, d_start)
         type(material_t), intent(in) :: mat
         real(dp), intent(in) :: pa, stress(4), strain(4), history(nhistory), de(4)
         real(dp), intent(out) :: c(4, 4)
-        real(dp) :: base(4), mid(4), shifted(4), h, dd(4)
+        real(dp), intent(in), optional :: d_start(4, 4)
+        real(dp), parameter :: m(4) = [1.0_dp, 1.0_dp, 1.0_dp, 0.0_dp]
+        real(dp) :: d0(4, 4), mid(4), et, bt, det(4), dbt(4), dgt(4), nine_b_e
+        real(dp) :: pde(4), trace, dsigma(4, 4)
         integer :: j
-        if (mat%law == law_goodman) then
+        select case (mat%law)
+        case (law_goodman)
             c = 0.0_dp
             call goodman_update_tangent(goodman_parameters(mat, pa), stress(1:2), strain(1), &
                                         de(1:2), c(1:2, 1:2))
-            return
-        end if
-        call material_update(mat, pa, stress, strain, history, de, .true., base, mid)
-        h = 1.5e-8_dp*max(maxval(abs(de)), 1.0e-9_dp)
-        do j = 1, 4
-            dd = de
-            dd(j) = dd(j) + h
-            call material_update(mat, pa, stress, strain, history, dd, .true., shifted, mid)
-            c(:, j) = (shifted - base)/h
-        end do
+        case (law_duncan_eb)
+            if (present(d_start)) then
+                d0 = d_start
+            else
+                call eb_tangent(eb_parameters(mat, pa), stress, history(1), d0)
+            end if
+            mid = stress + 0.5_dp*matmul(d0, de)
+            call eb_moduli_gradient(eb_parameters(mat, pa), mid, history(1), et, bt, det, dbt)
+            c = elastic_dmatrix(et, (3.0_dp*bt - et)/(6.0_dp*bt))
+            ! d(D(s) de)/ds = m tr(de) dBt^T + (P de) dGt^T
+            nine_b_e = 9.0_dp*bt - et
+            dgt = (27.0_dp*bt**2*det - 3.0_dp*et**2*dbt)/nine_b_e**2
+            trace = de(1) + de(2) + de(3)
+            pde(1:3) = 2.0_dp*de(1:3) - 2.0_dp/3.0_dp*trace
+            pde(4) = de(4)
+            do j = 1, 4
+                dsigma(:, j) = m*trace*dbt(j) + pde*dgt(j)
+            end do
+            c = c + 0.5_dp*matmul(dsigma, d0)
+        case default
+            call material_tangent(mat, pa, stress, strain, history, c)
+        end select
     end subroutine material_update_tangent
 
     !> Stress level S of a Gauss point (0 for laws without one).

@@ -10,7 +10,7 @@ module cfrd_duncan_eb
 
     public :: eb_params_t, eb_state_t, eb_tangent, eb_stress_state, eb_initial_modulus
     public :: eb_failure_deviator, eb_friction_angle, eb_principal, eb_unload_modulus
-    public :: nu_t_max, eb_linear_moduli
+    public :: nu_t_max, eb_linear_moduli, eb_moduli_gradient
 
     !> Upper bound of the tangent Poisson ratio: Bt <= Et / (3 (1 - 2 nu_t_max)).
     real(dp), parameter :: nu_t_max = 0.49_dp
@@ -155,4 +155,86 @@ contains
                                level=level, et=et, bt=bt, nu_t=nu_t, unloading=unloading)
         end if
     end subroutine eb_tangent
+
+    !> Et and Bt as eb_tangent takes them at `stress` (tension positive) with `ss_max`, and
+    !> their gradients with respect to the four stress components (docs/theory.md section
+    !> 8, "Derivatives of the moduli"): every branch differentiated as eb_tangent takes it.
+    !> Where a cap, floor or clamp acts, the capped quantity does not depend on the stress;
+    !> at an isotropic in-plane state the principal directions are undefined and the radius
+    !> is taken as constant (its gradient, a unit vector in any direction, is set to zero).
+    pure subroutine eb_moduli_gradient(p, stress, ss_max, et, bt, det, dbt)
+        type(eb_params_t), intent(in) :: p
+        real(dp), intent(in) :: stress(4), ss_max
+        real(dp), intent(out) :: et, bt, det(4), dbt(4)
+        real(dp), parameter :: ln10 = 2.302585092994045684_dp
+        real(dp) :: half_difference, radius, dradius(4), sigma3, s3, ds3(4)
+        real(dp) :: phi, dphi_ds3, sphi, cphi, qf, dqf_ds3, level_raw, level, dlevel(4)
+        real(dp) :: ei, dei(4), eload, deload(4), root4, ss, dss(4), weight_raw, dweight(4)
+        real(dp) :: eur, deur(4), b_raw, db_raw(4), b_low, b_high
+        ! principal stresses, compression positive (eb_principal)
+        half_difference = 0.5_dp*(stress(1) - stress(2))
+        radius = hypot(half_difference, stress(4))
+        dradius = 0.0_dp
+        if (radius > 0.0_dp) dradius = [0.5_dp*half_difference/radius, &
+                                        -0.5_dp*half_difference/radius, 0.0_dp, &
+                                        stress(4)/radius]
+        sigma3 = -0.5_dp*(stress(1) + stress(2)) - radius
+        s3 = max(sigma3, p%sigma3_floor)
+        ds3 = 0.0_dp
+        if (sigma3 > p%sigma3_floor) ds3 = [-0.5_dp, -0.5_dp, 0.0_dp, 0.0_dp] - dradius
+        ! strength (eqs. 19-20): phi in degrees, clamped to [1, 89]
+        phi = p%phi0 - p%dphi*log10(s3/p%pa)
+        dphi_ds3 = -p%dphi/(s3*ln10)
+        if (phi <= 1.0_dp .or. phi >= 89.0_dp) dphi_ds3 = 0.0_dp
+        phi = min(max(phi, 1.0_dp), 89.0_dp)*deg
+        dphi_ds3 = dphi_ds3*deg
+        sphi = sin(phi)
+        cphi = cos(phi)
+        qf = (2.0_dp*p%cohesion*cphi + 2.0_dp*s3*sphi)/(1.0_dp - sphi)
+        dqf_ds3 = 2.0_dp*sphi/(1.0_dp - sphi) + dphi_ds3* &
+                  (-2.0_dp*p%cohesion*sphi + 2.0_dp*s3*cphi + qf*cphi)/(1.0_dp - sphi)
+        ! stress level S = (sigma1 - sigma3) / qf, in [0, cap]
+        level_raw = 2.0_dp*radius/qf
+        level = min(max(level_raw, 0.0_dp), p%level_cap)
+        dlevel = 0.0_dp
+        if (level_raw > 0.0_dp .and. level_raw < p%level_cap) &
+            dlevel = (2.0_dp*dradius - level_raw*dqf_ds3*ds3)/qf
+        ! loading modulus (eq. 19)
+        ei = eb_initial_modulus(p, s3)
+        dei = p%n*ei/s3*ds3
+        eload = ei*(1.0_dp - p%rf*level)**2
+        deload = dei*(1.0_dp - p%rf*level)**2 - 2.0_dp*p%rf*ei*(1.0_dp - p%rf*level)*dlevel
+        et = eload
+        det = deload
+        ! unloading: Et moves to Eur as SS falls from ss_max to (1 - transition) ss_max
+        root4 = sqrt(sqrt(s3/p%pa))
+        ss = level*root4
+        if (ss_max > ss_threshold .and. ss < ss_max) then
+            dss = dlevel*root4 + 0.25_dp*level*root4/s3*ds3
+            weight_raw = (ss_max - ss)/(transition*ss_max)
+            dweight = 0.0_dp
+            if (weight_raw < 1.0_dp) dweight = -dss/(transition*ss_max)
+            eur = eb_unload_modulus(p, s3)
+            deur = p%n*eur/s3*ds3
+            if (eur > eload) then
+                et = eload + min(1.0_dp, weight_raw)*(eur - eload)
+                det = deload + dweight*(eur - eload) + min(1.0_dp, weight_raw)*(deur - deload)
+            end if
+        end if
+        ! bulk modulus (eq. 21) within the Poisson bounds
+        b_raw = p%kb*p%pa*(s3/p%pa)**p%m
+        db_raw = p%m*b_raw/s3*ds3
+        b_low = et/3.0_dp
+        b_high = et/(3.0_dp*(1.0_dp - 2.0_dp*nu_t_max))
+        if (b_raw <= b_low) then
+            bt = b_low
+            dbt = det/3.0_dp
+        else if (b_raw >= b_high) then
+            bt = b_high
+            dbt = det/(3.0_dp*(1.0_dp - 2.0_dp*nu_t_max))
+        else
+            bt = b_raw
+            dbt = db_raw
+        end if
+    end subroutine eb_moduli_gradient
 end module cfrd_duncan_eb

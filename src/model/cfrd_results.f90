@@ -121,6 +121,9 @@ module cfrd_results
         integer :: iterations = 0                  !! Newton iterations in the stage
         integer :: cutbacks = 0                    !! increments halved after no convergence
         real(dp) :: max_residual = 0.0_dp          !! largest |residual| / |load| after an increment
+        !> |residual| / |load| of the stage's last increment solved by Newton iterations: after
+        !> its midpoint step, then after each iteration (the rate of convergence, for tests)
+        real(dp), allocatable :: newton_residuals(:)
         real(dp) :: wall_time = 0.0_dp             !! s
         logical, allocatable :: active(:)          !! (nelem) element active at the stage's end
         real(dp), allocatable :: stress_level(:)   !! (nelem) largest Gauss-point stress level
