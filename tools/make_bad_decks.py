@@ -227,6 +227,16 @@ cases += [
  ("wet-without-wetting", tsub("WAIT                    41998-05-01", "WET            690.0    41998-05-01"), "{f}:19: WET stage, but no material has a WETTING card (nothing would collapse)"),
  ("wet-level-word", wsub("WAIT                    41998-05-01", "WET             HIGH    41998-05-01"), "{f}:20:11-20: field LEVEL of STAGES WET: expected a real number, found 'HIGH'"),
 ]
+# Bounds whose messages once stated others (issue 18): the message names the bound checked.
+EB2 = "      20.0     564.0      0.35      0.85     204.0      0.18"
+cases += [
+ ("eb-n-bound", tsub(EB2, EB2.replace("      0.35", "    0.9995")), "{f}:12:21-30: field N of MATERIALS 1: expected a real with 0 <= N <= 0.999, found '0.9995'"),
+ ("eb-m-bound", tsub(EB2, EB2.replace("      0.18", "   -0.9995")), "{f}:12:51-60: field M of MATERIALS 1: expected a real with -0.999 <= M <= 0.999, found '-0.9995'"),
+ ("eb-phi0-bound", tsub("      51.0      13.0", "      89.5      13.0"), "{f}:13:1-10: field PHI0 of MATERIALS 1: expected an angle in degrees, 0 < PHI0 <= 89, found '89.5'"),
+ ("eb-dphi-bound", tsub("      51.0      13.0", "      51.0      89.5"), "{f}:13:11-20: field DPHI of MATERIALS 1: expected an angle in degrees, 0 <= DPHI <= 89, found '89.5'"),
+ ("goodman-n1-bound", jsub("      1000       0.3", "      1000    0.9995"), "{f}:15:31-40: field N1 of MATERIALS 2: expected a real with 0 <= N1 <= 0.999, found '0.9995'"),
+ ("goodman-phi-bound", jsub("       1.0      30.0", "       1.0      89.5"), "{f}:15:51-60: field PHI of MATERIALS 2: expected an angle in degrees, 0 < PHI <= 89, found '89.5'"),
+]
 for old in os.listdir(P):
     os.remove(P + old)
 for i, (name, deck, expect) in enumerate(cases, 1):
