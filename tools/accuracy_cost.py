@@ -1,26 +1,17 @@
 #!/usr/bin/env python3
-"""Accuracy against time for the Tianshengqiao-I decks (issue 9, section 1; `make accuracy`).
+"""Accuracy against time for the Tianshengqiao-I decks (issue 9, section 1; `make accuracy`;
+the design, the grid and the results: docs/accuracy-cost.md).
 
 One knob at a time around the default deck (x1 mesh, 1 increment per fill layer and slab
-phase, water step 10 m, midpoint, contact SEARCH LINEAR and TOL 1 mm, joints LOBATTO), for
-each interface method (docs/accuracy-cost.md has the grid): the mesh x1 .. x8, increments 1
-.. 8 per layer, water steps 10, 5, 2.5 m, midpoint against Newton (x1, x2), the contact TOL
-and SEARCH, the joint rule, and the knobs together at the knees. For every run: wall time,
-the load average at its end, increments, factorisations, iterations, and the quantities
-users read: the largest settlement (overall and on the mid-height row El. 709.33 m), the
-horizontal displacement of gauge C1-H5, the phase I and II opening width and depth (largest
-over the history, DECK-openings.csv) and the peak contact stress at the last stage (the toe
-node on the plinth left out: a point force that grows without bound with the mesh).
-
-Errors are relative, against each knob's reference: a Richardson extrapolation of the three
-finest levels of an ordered knob when they converge monotonically with an apparent order of
-at least 0.7, else the finest level that ran; Newton for the solver; LOBATTO for the rule,
-LINEAR for the search (sensitivities, not errors). One cfrd process at a time; runs under
-5 s are made three times and the fastest kept. A run is cached: its HDF5 file (or recorded
-failure) newer than its deck and made by the same program (sha256) is not rerun (--force
-reruns); a deck is rewritten only when its text changes. Output: the tables (markdown) and
-one plot per method, error against wall time; --doc FILE replaces the measured part of
-docs/accuracy-cost.md.
+phase, 10 m water steps, midpoint, contact SEARCH LINEAR and TOL 1 mm, joints LOBATTO), for
+each interface method; for every run its wall time and work, and the quantities users read
+(QUANTITIES), each with its relative error against the knob's reference (a Richardson
+extrapolation of the three finest levels when they converge monotonically with an apparent
+order of at least 0.7, else the finest; Newton for the solver; LOBATTO and LINEAR for the rule
+and the search). Runs under 5 s are made three times, the fastest kept; a run is cached (its
+results newer than its deck and made by the same program, sha256; --force reruns). Writes the
+tables (markdown) and a plot per method, error against wall time; --doc FILE replaces the
+measured part of docs/accuracy-cost.md.
 
     python3 tools/accuracy_cost.py [--cfrd bin/cfrd] [--workdir build/accuracy]
         [--max-refine 8] [--methods bonded,joint,thin,contact] [--markdown FILE]

@@ -1,19 +1,16 @@
 #!/usr/bin/env python3
-"""Run many decks at once, one cfrd process per deck on every core (issue 8, section 3).
+"""Run many decks at once, one cfrd process per deck on every core (issue 8, section 3;
+docs/results.md, "Running many decks").
 
     python3 tools/batch.py [--cfrd bin/cfrd] [--out DIR] [--jobs N] DECK [DECK ...]
     make batch DECKS="inputs/a.dat inputs/b.dat" [OUT=DIR] [JOBS=N]
 
-Each deck runs as `cfrd --out DIR DECK`, at most N at a time (default: the cores available),
-with OPENBLAS_NUM_THREADS=1; its results go to DIR, what it prints to DIR/DECK.log. A failed
-deck does not stop the others. At the end a summary (deck, status, stages, wall time, the
-largest settlement since placement and interface opening over all stages, with where) is
-printed and written to DIR/batch-summary.csv. SIGINT or SIGTERM (Slurm's time limit) is
-passed on to the decks running, which keep their completed stages in DIR/DECK.incomplete.h5
-(docs/results.md, "Stopped runs"); decks not started are "not run"; a second signal ends the
-batch at once. Exit status: 0 when every deck ran; else the number of failed decks (at most
-100); 101 when the batch could not start (bad arguments, no program, --out naming a file,
-two decks that would write the same result files: checked before any run); 130 / 143 when
+Each deck runs as `cfrd --out DIR DECK` (OPENBLAS_NUM_THREADS=1), at most N at a time, what it
+prints in DIR/DECK.log; then a summary is printed and written to DIR/batch-summary.csv.
+SIGINT or SIGTERM is passed on to the decks running (they keep their completed stages); the
+others are "not run". Exit status: 0 when every deck ran; else the number of failed decks (at
+most 100); 101 when the batch could not start (bad arguments, no program, --out naming a
+file, two decks that would write the same files: checked before any run); 130 / 143 when
 stopped by SIGINT / SIGTERM.
 """
 

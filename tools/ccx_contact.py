@@ -1,20 +1,16 @@
 #!/usr/bin/env python3
-"""CalculiX as the independent peer of frictional contact (issue 7, section 2).
+"""CalculiX as the independent peer of frictional contact (issue 7, section 2; the case and
+what CalculiX is given: docs/theory.md section 14, "Verification").
 
   python3 tools/ccx_contact.py --cfrd bin/cfrd [--workdir DIR]
   python3 tools/ccx_contact.py --cfrd bin/cfrd --penalty-study     (the K, lambda table)
 
-The case (docs/theory.md section 14, "Verification"), in the frame of a 1 : 1.4 slope: a
-concrete face slab 20 m x 0.5 m (40 x 2 quads) on a cushion block 20 m x 4 m (30 x 6 quads,
-4 : 3 along the interface, non-matching), Coulomb mu = 0.5; the slab's toe held (the plinth),
-the cushion's base settling beyond x = 12 m, water on the slab up to x = 12 m, all in 10
-increments. cfrd: CONTACT cards (slave: the slab's bottom, mortar), the slab in plain Q4 like
-CalculiX's CPE4 (so that the comparison measures the contact alone). CalculiX 2.20: face-to-
-face penalty contact, K = 1e8 kPa/m, *FRICTION 0.5 with stick slope K / 100. Asserted: the
-normal and tangential resultants of the contact force on the slab within 1 % of CalculiX's
-(CF, checked against its toe reactions); the same open zones (gap > 1e-4 m, measured the same
-way for both from their displacements), each as long within one slab element (0.5 m); and
-that the case has two open zones, a closed part, and slave nodes that stick and that slip.
+A slab (40 x 2 quads) on a cushion block (30 x 6, non-matching), mu = 0.5, on a 1 : 1.4
+slope, its toe held, the base settling, water on the slab. Asserted: the normal and
+tangential resultants of the contact force on the slab within 1 % of CalculiX's; the same
+open zones (gap > 1e-4 m, measured the same way for both), each as long within one slab
+element; and that the case has two open zones, a closed part, and slave nodes that stick and
+that slip.
 """
 import math
 import os

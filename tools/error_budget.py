@@ -1,21 +1,11 @@
 #!/usr/bin/env python3
 """The error budget of the Tianshengqiao-I openings (issue 19; docs/tianshengqiao.md section
-9): each candidate mechanism switched on alone in the face-resolved x1 contact deck (the x1
-body with the slab face at x4, whose openings are within 5 % of the converged x8 mesh's), and
-its effect on the four Table 5 figures and on the largest settlement in August 1999.
+9): each candidate mechanism (VARIANTS: creep, scaled moduli, earlier slab casting, a plain Q4
+slab, wetting collapse) switched on alone in the face-resolved x1 contact deck (the x1 body
+with the slab face at x4), and its effect on the four Table 5 figures (the largest over the
+history, DECK-openings.csv) and on the largest settlement at the last stage dated 1999-08.
 
   python3 tools/error_budget.py --cfrd bin/cfrd [--workdir build/budget] [--only NAME ...]
-
-The variants (VARIANTS below, each named in the table): the deck as generated; creep (the
-CREEP cards of inputs/tianshengqiao-i.toml [choice]) and its volumetric or shear part alone,
-b and d halved or doubled, b five times without the shear part; every E-B modulus number
-halved (a field-to-laboratory scale factor of 2 [choice]); each slab phase cast at the start
-of its casting period (Table 2) instead of its end; the slab in plain Q4 quads; wetting
-collapse (WETTING cards and WET stages, Shen's model [lit], parameters WETTING [choice]) of
-the upstream zones below the reservoir after each water rise (a leaking face: an upper
-bound) or of every placed zone in the rainy season (July) of each year. The openings are the
-largest over the history (DECK-openings.csv); the settlement the largest since placement at
-the last stage dated 1999-08.
 """
 
 import math

@@ -1,33 +1,19 @@
 #!/usr/bin/env python3
-"""Figures like the paper's from cfrd results files, for any deck, in one command.
+"""Figures like the paper's from cfrd results files, for any deck, in one command
+(docs/results.md, "Figures").
 
   python3 tools/figures.py RESULT.h5 [MORE.h5 ...] --out DIR [--data] [--reference FILE]
                            [--stage N]
   make figures DECK=inputs/tianshengqiao-x1-joint.dat          (runs the deck first)
 
-The first file gives the single-file figures, every file a curve in Figs. 13 and 14 and a
-row of the Table 5 comparison; each is written into DIR when the results hold its data (a
-line says which were skipped and why), docs/results.md, "Figures":
-
-  fig07-settlement.png, fig07-ux.png  settlement and horizontal displacement contours at the
-      last stage (--stage N: at stage N) since each node's placement, in cm (Fig. 7)
-  fig09-10-gauges.png  the gauges against time (Figs. 9 and 10; GAUGES and dated stages)
-  fig11-opening.png    opening along the interface (du_n of the INTERFACE stations or the gap
-      of the CONTACT slave nodes) at the end of each slab period, at the last stage and at
-      each phase's largest opening (Fig. 11)
-  fig12-openings.png, fig12-openings-time.png  width and depth of each slab phase's opening,
-      stage by stage and against time (stages all dated in a date form), observed maxima
-  fig13-normal-stress.png  normal stress along the interface before the phase II slab (the
-      stage before the second RESET), at the end of construction (before the third) and at
-      the largest opening (Fig. 13; contact: separated nodes hollow)
-  fig14-slab.png       slab stresses at the Gauss points at the end of construction (Fig. 14)
-  table5-openings.png  largest opening width and depth of phases I and II against the
-      paper's Table 5, each run beside the paper's row of its method
-
---reference: a TOML of observed and published values (default: the first of
-inputs/*-observed.toml whose title_contains is in the results' title; `none`: without).
---data also writes DIR/data/FIGURE.csv: every curve and bar as drawn (read back from the
-artists) and every contoured field, with all digits, for tools/check_figures.py.
+The first file gives fig07-settlement.png and fig07-ux.png (contours at the last stage, or at
+stage N), fig09-10-gauges.png, fig11-opening.png, fig12-openings.png and
+fig12-openings-time.png; every file a curve in fig13-normal-stress.png and fig14-slab.png and
+a row of table5-openings.png. A figure is drawn when the results hold its data; a line says
+which were skipped and why. --reference: the TOML of observed and published values (default:
+the first inputs/*-observed.toml whose title_contains is in the results' title; `none`:
+without). --data also writes DIR/data/FIGURE.csv: every curve and bar as drawn (read back
+from the artists) and every contoured field, with all digits, for tools/check_figures.py.
 """
 import argparse
 import csv

@@ -1,24 +1,17 @@
 #!/usr/bin/env python3
-"""Fuzzing harness for the deck reader (issue 9, section 4; docs/robustness.md).
+"""Fuzzing harness for the deck reader (issue 9, section 4; docs/robustness.md, "Bad input at
+scale": the mutations, the outcomes and the failures).
 
-Every mutant is one deck of inputs/*.dat changed by one seeded mutation: a card dropped,
-duplicated, swapped with another or its columns shifted; a numeric field out of range or made
-non-numeric; the file truncated; random bytes inserted or overwritten. It is read with
-`cfrd --check`, and a deterministic fraction of the accepted ones run in full (--out a fresh
-folder). Outcomes: rejected (exit 2, one message `cfrd: FILE:LINE[:C1-C2]: ...`, a field
-message naming the field; only a whole-deck problem may name no line), accepted (not run in
-full; a mutant asking for over 10 times its deck's increments is never run: valid and slow),
-ran (exit 0, every result finite), failed (exit 1 with a `cfrd: ` diagnostic, results
-finite); and the failures: crash (a signal, a Fortran runtime error or backtrace, another
-exit status), hang (no answer in 20 s for --check, 60 s for a run), message (a rejection
-without FILE:LINE, or naming a line or column the mutant lacks, or columns without the field)
-and nan (NaN or Inf in a result: listing, CSV, XDMF (not a word of the deck's own labels) or
-a float dataset or attribute of an HDF5 file). A mutant is determined by its seed alone:
-`--reproduce SEED` writes it again (build/fuzz/repro-SEED/), prints the mutation and runs it;
-failed mutants are kept in build/fuzz/RUN/SEED/ with repro.txt.
+Every mutant is one deck of inputs/*.dat changed by one seeded mutation (KINDS), read with
+`cfrd --check`, a deterministic fraction of the accepted ones run in full. The failures: crash
+(a signal, a runtime error, another exit status), hang (20 s for --check, 60 s for a run),
+message (a rejection without FILE:LINE or naming a line or columns the mutant lacks, or
+columns without the field) and nan (NaN or Inf in a result file). `--reproduce SEED` writes
+a mutant again (build/fuzz/repro-SEED/), prints its mutation and runs it; failed mutants are
+kept in build/fuzz/RUN/SEED/ with repro.txt.
 
 Usage: tools/fuzz.py [--cfrd bin/cfrd] [--count 10000] [--seed 1] [--jobs 2] [--full-large N]
-Prints PASS/FAIL lines (fuzz/crashes, fuzz/hangs, fuzz/messages, fuzz/nan) and a summary table.
+Prints PASS/FAIL lines (fuzz/crashes, fuzz/hangs, fuzz/messages, fuzz/nan) and a table.
 """
 import argparse
 import glob

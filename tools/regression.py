@@ -1,24 +1,18 @@
 #!/usr/bin/env python3
-"""The regression suite (issue 8, section 4): every deck in inputs/ has reference results in
-outputs/, and a fresh run must reproduce them.
+"""The regression suite (issue 8, section 4; docs/results.md, "The regression suite"): every
+deck in inputs/ has reference results in outputs/, and a fresh run must reproduce them.
 
     python3 tools/regression.py --cfrd build/debug-bin/cfrd --workdir DIR   (make test)
     python3 tools/regression.py --refresh [--cfrd bin/cfrd] [--force] [DECK ...]
                                                                        (make references)
 
-The references (docs/results.md, "The regression suite"): outputs/reference/DECK.csv.gz,
-written by `tools/compare.py --reduce` (at every stage its counts, loads, residual, reservoir
-level, extremes, gauges and openings; at the last stage every field, to 12 digits), and the
-CSVs of a deck that outputs/ holds. Tolerances (|fresh - reference| <= atol + rtol |ref|,
-`max` the largest |value| of the quantity in the reference), from the spread of results when
-only the round-off changes (builds, BLAS threads and kernels; docs/results.md has the table):
-elastic decks 1e-9 max, counts exact, the residual 1e-9; nonlinear decks (EB or GOODMAN)
-1e-5 max, stress levels 1e-4 max, counts +-1 (a stress level within round-off of the 0.95
-near-failure bound, or a Newton iteration converging at its tolerance), the residual 1e-4 of
-itself plus 1e-9. --refresh reruns the decks and rewrites a reference (and the CSVs and
-listing outputs/ holds of it) only where the results differ beyond these tolerances or it has
-none (--force: all), printing what changed. A deck of FIGURES_ONLY is compared, and its
-reference written, on the quantities named there only. One PASS/FAIL line per deck and file.
+The references: outputs/reference/DECK.csv.gz, written by `tools/compare.py --reduce`, and
+the CSVs of a deck that outputs/ holds. Tolerances, from the spread of results when only the
+round-off changes (builds, BLAS threads and kernels): ELASTIC and NONLINEAR below.
+--refresh reruns the decks and rewrites a reference (and the CSVs and listing outputs/ holds
+of it) only where the results differ beyond these tolerances or it has none (--force: all),
+printing what changed. A deck of FIGURES_ONLY is compared, and its reference written, on the
+quantities named there only. One PASS/FAIL line per deck and file.
 """
 
 import argparse

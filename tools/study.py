@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Parametric studies (issue 8, section 3): a template deck and a table of cases.
+"""Parametric studies (issue 8, section 3; docs/results.md, "Parametric studies"): a template
+deck and a table of cases.
 
     python3 tools/study.py TEMPLATE [--table CSV] [--dir DIR] [--cfrd bin/cfrd] [--jobs N]
                            [--x NAME]                  expand, run in parallel, collect
@@ -9,15 +10,11 @@
     python3 tools/study.py TEMPLATE ... --collect       results of a finished (Slurm) run
     make study STUDY=TEMPLATE                           the first form, with bin/cfrd
 
-The template (docs/results.md, "Parametric studies") is a deck whose fields are placeholders
-`{NAME    }` as wide as the field, its table named on a `* study: TABLE.csv` card (--table
-overrides): a CSV with a column per placeholder (and an optional `case` column), a row per
-case. Writes into DIR (default study-TEMPLATE_STEM) decks/STEM-CASE.dat (each read by
-`cfrd --check` before the runs), results/ (tools/batch.py), study-results.csv (parameters,
-status, the largest settlement and opening of each case) and study-response.png (those
-against one parameter, --x, a line per combination of the others); with --slurm a job array,
-study.slurm and decks.txt (task k runs line k). Exit status: 0 when every case ran, 1 when
-one failed, 2 for a bad template or table (or a deck that cfrd --check rejects).
+Placeholders `{NAME    }` fill a field's columns; the table (a `* study: TABLE.csv` card, or
+--table) has a column per placeholder and a row per case. Writes into DIR (default
+study-TEMPLATE_STEM) decks/, results/, study-results.csv and study-response.png. Exit status:
+0 when every case ran, 1 when one failed, 2 for a bad template or table (or a deck that
+cfrd --check rejects).
 """
 
 import argparse
