@@ -35,13 +35,10 @@ module test_io_card_schema
     character(len=*), parameter :: default_exceptions(4) = [character(len=24) :: &
         'CONTROL:NNODE', 'CONTROL:NELEM', 'CONTROL:NMAT', 'ELEMENTS:L']
     !> Fields whose limits in the schema differ from the manual's, on purpose: the counts
-    !> of CONTROL take 0 for blank ("not given"; the manual gives the limits of a count
-    !> that is given), and the reader has always held the open bounds of the manual and of
-    !> its messages ("0 <= N < 1", "0 < PHI0 < 90") as closed practical bounds (0.999, 89).
-    character(len=*), parameter :: limits_exceptions(8) = [character(len=28) :: &
-        'CONTROL:NNODE', 'CONTROL:NELEM', 'CONTROL:NMAT', 'MATERIALS EB card 2:N', &
-        'MATERIALS EB card 2:M', 'MATERIALS EB card 3:PHI0', 'MATERIALS GOODMAN card 2:N1', &
-        'MATERIALS GOODMAN card 2:PHI']
+    !> of CONTROL take 0 for blank ("not given"; the manual, like the words of the message,
+    !> gives the limits of a count that is given).
+    character(len=*), parameter :: limits_exceptions(3) = [character(len=13) :: &
+        'CONTROL:NNODE', 'CONTROL:NELEM', 'CONTROL:NMAT']
 
 contains
 
@@ -149,6 +146,8 @@ contains
     !> '0, 1', 'magnitude <= 1e7') and the words. Parentheses in a cell are comments;
     !> a cell of words about other cards ('existing node', 'N1 .. NNODE') is the group
     !> reader's check, not the schema's, and is left out, as are the fields listed above.
+    !> The words of each field's "expected ..." message state what the schema checks and
+    !> the manual says (`wording_matches`): a message never calls a rejected value allowed.
     subroutine test_defaults_and_limits(error)
         type(error_t), allocatable, intent(out) :: error
         type(card_schema_t), allocatable :: cards(:)
@@ -185,6 +184,10 @@ contains
                 if (.not. any(limits_exceptions == key)) then
                     if (.not. limits_match(cards(c)%fields(k), rows(r)%limits, why)) then
                         call fail(error, key//' limits: '//why)
+                        return
+                    end if
+                    if (.not. wording_matches(cards(c)%fields(k), rows(r)%limits, why)) then
+                        call fail(error, key//' "expected" words: '//why)
                         return
                     end if
                 end if
@@ -290,6 +293,110 @@ contains
         why = 'the manual says '''//cell//''' ('//bounds_text(lo, lo_open, hi, hi_open)// &
               '), the schema '//bounds_text(schema_lo, schema_lo_open, field%hi, field%hi_open)
     end function limits_match
+
+    !> The words of a field's "expected ..." message against the schema's check and the
+    !> manual's limits cell: a field of words names the same words ('ON (the default, also
+    !> blank) or OFF': ON OFF); a number states the same bounds ('a real with 0 <= N <=
+    !> 0.999', 'a face from 1 to 4', '1 (plane strain) or 2 (axisymmetric)', 'magnitude at
+    !> most 1e7'), or none where the schema has none ('the reservoir level to reach (m)').
+    logical function wording_matches(field, doc_cell, why) result(ok)
+        type(field_t), intent(in) :: field
+        character(len=*), intent(in) :: doc_cell
+        character(len=:), allocatable, intent(out) :: why
+        character(len=:), allocatable :: stated, cell, message
+        real(dp) :: lo, hi, schema_lo, doc_lo, doc_hi
+        logical :: lo_open, hi_open, schema_lo_open, doc_lo_open, doc_hi_open, read_ok
+        ok = .true.
+        if (len_trim(field%expected) == 0) return
+        message = 'the message "expected '//trim(field%expected)//'"'
+        stated = stated_words(field%expected, trim(field%name), field%kind == text_field)
+        if (field%kind == text_field) then
+            if (len_trim(field%words) == 0) return
+            ok = stated == joined(tokens(field%words))
+            if (.not. ok) why = message//' names '//stated//', the schema checks '// &
+                                joined(tokens(field%words))
+            return
+        end if
+        schema_lo = field%lo
+        schema_lo_open = field%lo_open
+        if (schema_lo == tiny(1.0_dp) .and. .not. schema_lo_open) then
+            schema_lo = 0.0_dp
+            schema_lo_open = .true.
+        end if
+        if (len(stated) == 0) then
+            ok = schema_lo == -big .and. field%hi == big
+            if (.not. ok) why = message//' states no bounds, the schema checks '// &
+                                bounds_text(schema_lo, schema_lo_open, field%hi, field%hi_open)
+            return
+        end if
+        call read_bounds(stated, lo, lo_open, hi, hi_open, read_ok)
+        ok = read_ok .and. lo == schema_lo .and. hi == field%hi .and. &
+             ((lo_open .eqv. schema_lo_open) .or. lo == -big) .and. &
+             ((hi_open .eqv. field%hi_open) .or. hi == big)
+        if (.not. ok) then
+            why = message//' states '''//stated//''', the schema checks '// &
+                  bounds_text(schema_lo, schema_lo_open, field%hi, field%hi_open)
+            return
+        end if
+        cell = plain(doc_cell)
+        if (len(cell) == 0) return
+        call read_bounds(cell, doc_lo, doc_lo_open, doc_hi, doc_hi_open, read_ok)
+        if (.not. read_ok) return      ! words about other cards: the group reader's check
+        ok = lo == doc_lo .and. hi == doc_hi .and. ((lo_open .eqv. doc_lo_open) .or. &
+             lo == -big) .and. ((hi_open .eqv. doc_hi_open) .or. hi == big)
+        if (.not. ok) why = message//' states '//bounds_text(lo, lo_open, hi, hi_open)// &
+                            ', the manual '''//cell//''''
+    end function wording_matches
+
+    !> What a message states, as a limits cell: its comments in parentheses left out, 'at
+    !> most' read as '<=' and 'from a to b' as 'a..b', and of the rest only the numbers,
+    !> the comparisons, 'magnitude' and the field's name (of a field of words: its words
+    !> in capitals).
+    function stated_words(expected, name, capitals) result(text)
+        character(len=*), intent(in) :: expected, name
+        logical, intent(in) :: capitals
+        character(len=:), allocatable :: text, bare, w
+        character(len=:), allocatable :: words(:)
+        integer :: i, depth
+        bare = ''
+        depth = 0
+        do i = 1, len_trim(expected)
+            if (expected(i:i) == '(') depth = depth + 1
+            if (depth == 0) then
+                if (index(',:', expected(i:i)) > 0) then
+                    bare = bare//' '
+                else
+                    bare = bare//expected(i:i)
+                end if
+            end if
+            if (expected(i:i) == ')') depth = max(depth - 1, 0)
+        end do
+        words = tokens(bare)
+        text = ''
+        i = 0
+        do while (i < size(words))
+            i = i + 1
+            w = trim(words(i))
+            if (capitals) then
+                if (scan(w, 'ABCDEFGHIJKLMNOPQRSTUVWXYZ') > 0 .and. &
+                    verify(w, 'ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-') == 0) text = text//' '//w
+            else if (w == 'at' .and. i < size(words)) then
+                if (trim(words(i + 1)) == 'most') then
+                    text = text//' <='
+                    i = i + 1
+                end if
+            else if (w == 'from' .and. i + 3 <= size(words)) then
+                if (trim(words(i + 2)) == 'to') then
+                    text = text//' '//trim(words(i + 1))//'..'//trim(words(i + 3))
+                    i = i + 3
+                end if
+            else if (is_real(w) .or. w == '<' .or. w == '<=' .or. w == '>' .or. w == '>=' &
+                     .or. w == 'magnitude' .or. w == name) then
+                text = text//' '//w
+            end if
+        end do
+        text = trim(adjustl(text))
+    end function stated_words
 
     !> Bounds from '> a', '>= a', '< b', '<= b', 'a < X <= b' (any of < and <=), 'a..b',
     !> 'a, b, c' or 'a or b' (consecutive integers), 'magnitude <= m'.

@@ -5,25 +5,15 @@
                              [--worst N] [--quantities Q,Q,...]
     python3 tools/compare.py --reduce RESULTS.h5 OUT.csv[.gz]     (compact reference)
 
-A is the reference, B the candidate. Each may be
-  - a cfrd HDF5 results file (DECK.h5),
-  - one of cfrd's CSVs (DECK-gauges.csv, -openings.csv, -slab.csv, -interface.csv),
-  - a result table typed from a legacy FEADAM/ISBILD listing (docs/results.md, "Result
-    tables"): a CSV with a `stage` column, one location column (node, element, gauge, phase
-    or section) and component columns such as ux, uy, sxx, syy, sxy, s1, s3, stress_level,
-  - a long-form CSV (quantity,stage,location,component,value), as --reduce writes it: the
-    compact references of the regression suite in outputs/reference/.
-
-Every value of A must be found in B (a table typed from a listing holds a few values, the
-HDF5 file all of them); quantities or components present on one side only are listed and
-not compared. A value fails when |b - a| > atol + rtol |a|. ATOL is a number in the
-quantity's units, or `Xmax`, X times the largest |a| of that quantity in A (of that
-component for `counts`, whose components are different things): a tolerance relative to
-the quantity's scale, which does not fail on round-off in values near zero.
-
-Prints the worst differences, ranked by |b - a| over what is allowed, with their quantity,
-stage, location (node, element, ...) and component, then one line per quantity.
-Exit status 0 when every value agrees, 1 when one does not or is missing, 2 for bad input.
+A is the reference, B the candidate; each a cfrd HDF5 file, one of its CSVs (-gauges,
+-openings, -slab, -interface), a legacy-style listing (.lst), a result table typed from a
+listing (a CSV with a `stage` column, one location column and component columns) or the
+long form (quantity,stage,location,component,value) that --reduce writes (docs/results.md,
+"Comparing results"). Every value of A must be found in B; a value fails when
+|b - a| > atol + rtol |a|, ATOL a number or `Xmax`, X times the largest |a| of the quantity
+in A (of the component, for `counts`). Prints the worst differences, then a line per
+quantity. Exit status 0 when every value agrees, 1 when one does not or is missing, 2 for
+bad input.
 """
 
 import argparse
@@ -36,7 +26,8 @@ import re
 import sys
 
 import numpy as np
-from cfrdtools.results import text
+
+from cfrdtools.results import open_results, text
 
 # quantity -> (location kind, components), in the order of docs/results.md.
 QUANTITIES = {
@@ -58,22 +49,28 @@ QUANTITIES = {
     "slab": ("section", ("axial", "shear", "moment")),
     "contact": ("slave", ("gap", "slip", "sigma_n", "tau")),
 }
-
 # Result tables (typed from legacy listings): column -> (quantity, component).
 TABLE_COLUMNS = {
     "node": {"ux": ("displacement", "ux"), "uy": ("displacement", "uy"),
              "ux_total": ("displacement_total", "ux"),
              "uy_total": ("displacement_total", "uy"),
              "rx": ("reaction", "rx"), "ry": ("reaction", "ry")},
-    "element": {"sxx": ("stress", "sxx"), "syy": ("stress", "syy"),
-                "szz": ("stress", "szz"), "sxy": ("stress", "sxy"),
+    "element": {**{c: ("stress", c) for c in QUANTITIES["stress"][1]},
                 "s1": ("principal", "s1"), "s3": ("principal", "s3"),
                 "stress_level": ("stress_level", "level")},
     "stage": {c: ("extremes", c) for c in QUANTITIES["extremes"][1]},
     "gauge": {"ux": ("gauge", "ux"), "settlement": ("gauge", "settlement")},
     "phase": {"width": ("opening", "width"), "depth": ("opening", "depth")},
-    "section": {"axial": ("slab", "axial"), "shear": ("slab", "shear"),
-                "moment": ("slab", "moment")},
+    "section": {c: ("slab", c) for c in QUANTITIES["slab"][1]},
+}
+# cfrd's CSVs: a column that tells the file -> (location column, quantity,
+# [(component, column)]).
+CFRD_CSVS = {
+    "width_m": ("group", "opening", [("width", "width_m"), ("depth", "depth_m")]),
+    "N_kN_per_m": ("section", "slab", [("axial", "N_kN_per_m"), ("shear", "V_kN_per_m"),
+                                       ("moment", "M_kNm_per_m")]),
+    "sigma_n_kPa": ("point", "interface", [("sigma_n", "sigma_n_kPa"), ("tau", "tau_kPa"),
+                                           ("du_n", "du_n_m"), ("du_s", "du_s_m")]),
 }
 
 
@@ -86,21 +83,17 @@ class Block:
     (len(ids), len(components)) array, NaN where a component is not given."""
 
     def __init__(self, ids, components, values):
-        self.ids = list(ids)
-        self.components = list(components)
+        self.ids, self.components = list(ids), list(components)
         self.values = np.asarray(values, dtype=float).reshape(len(self.ids),
                                                               len(self.components))
 
 
 class ResultSet:
-    """Blocks keyed by (quantity, stage), with the stage names for messages."""
+    """Blocks keyed by (quantity, stage), with the stage names for messages; `available`:
+    quantity -> components the source holds, also where a reader skipped them."""
 
     def __init__(self, path):
-        self.path = path
-        self.blocks = {}
-        self.stage_names = {}
-        # quantity -> components the source holds, also where a reader skipped them
-        self.available = {}
+        self.path, self.blocks, self.stage_names, self.available = path, {}, {}, {}
         self._pending = {}          # values added one at a time, until finish()
 
     def add(self, quantity, stage, ids, components, values):
@@ -109,17 +102,16 @@ class ResultSet:
 
     def add_values(self, quantity, stage, loc, component, value):
         """One value at a time (CSV readers); merged into blocks by finish()."""
-        by_loc = self._pending.setdefault((quantity, int(stage)), {})
-        by_loc.setdefault(loc, {})[component] = value
+        self._pending.setdefault((quantity, int(stage)), {}).setdefault(loc, {})[component] \
+            = value
 
     def finish(self):
         pending, self._pending = self._pending, {}
         for (quantity, stage), by_loc in pending.items():
-            comps = [c for c in QUANTITIES[quantity][1]
-                     if any(c in v for v in by_loc.values())]
+            comps = [c for c in QUANTITIES[quantity][1] if any(c in v for v in by_loc.values())]
             ids = sorted(by_loc, key=sort_key)
-            values = [[by_loc[i].get(c, math.nan) for c in comps] for i in ids]
-            self.add(quantity, stage, ids, comps, values)
+            self.add(quantity, stage, ids, comps,
+                     [[by_loc[i].get(c, math.nan) for c in comps] for i in ids])
         return self
 
 
@@ -132,14 +124,11 @@ def location_text(quantity, loc):
     return "-" if kind == "stage" else f"{kind} {loc}"
 
 
-# ------------------------------------------------------------------------------ readers
-
 def read_h5(path, wanted=None):
     """A cfrd HDF5 file. `wanted`, a set of (quantity, stage), limits what is read."""
-    import h5py
     rs = ResultSet(path)
     try:
-        f = h5py.File(path, "r")
+        f = open_results(path)
     except OSError as exc:
         raise InputError(f"{path}: not an HDF5 file ({exc})")
     with f:
@@ -148,47 +137,37 @@ def read_h5(path, wanted=None):
         conn = f["mesh/connectivity"][...]
         group_names = [text(g) for g in f["mesh/group_names"][...]] \
             if "mesh/group_names" in f else []
-        gauges = []
-        if "gauges/names" in f:
-            gauges = list(zip([text(n).strip() for n in f["gauges/names"][...]],
-                              f["gauges/nodes"][...]))
+        gauges = list(zip([text(n).strip() for n in f["gauges/names"][...]],
+                          f["gauges/nodes"][...])) if "gauges/names" in f else []
         iface_elements = f["mesh/interface_elements"][...] \
             if "mesh/interface_elements" in f else None
-        names = sorted(k for k in f["stages"] if re.fullmatch(r"stage_\d+", k))
-        for name in names:
-            s = int(name.split("_")[1])
-            g = f["stages"][name]
-            rs.stage_names[s] = text(g.attrs.get("name", "")).strip()
+        for name in sorted(k for k in f["stages"] if re.fullmatch(r"stage_\d+", k)):
+            s, g = int(name.split("_")[1]), f["stages"][name]
+            a = g.attrs
+            rs.stage_names[s] = text(a.get("name", "")).strip()
 
             def want(q, comps=None):
                 """Whether to read q at this stage; notes that the file holds it."""
                 rs.available.setdefault(q, set()).update(comps or QUANTITIES[q][1])
                 return wanted is None or (q, s) in wanted
-            active = g["active"][...].astype(bool) if "active" in g else \
-                np.ones(len(conn), bool)
+            active = g["active"][...].astype(bool) if "active" in g else np.ones(len(conn), bool)
             elements = np.flatnonzero(active)
             nodes = np.unique(conn[active]) if active.any() else np.zeros(0, int)
-            node_ids = [int(n) for n in nodes]
-            for q, dset in (("displacement", "displacement"),
-                            ("displacement_total", "displacement_total")):
+            # (the angle of sigma1 is left out: it is undefined where sigma1 = sigma3)
+            for q, dset, rows, ids, cols in (
+                    ("displacement", "displacement", nodes - 1, nodes, slice(None)),
+                    ("displacement_total", "displacement_total", nodes - 1, nodes, slice(None)),
+                    ("stress", "stress_centroid", elements, elements + 1, slice(None)),
+                    ("principal", "principal", elements, elements + 1, slice(0, 2)),
+                    ("stress_level", "stress_level", elements, elements + 1, slice(None))):
                 if dset in g and want(q):
-                    rs.add(q, s, node_ids, ("ux", "uy"), g[dset][...][nodes - 1])
+                    v = g[dset][...][rows]
+                    rs.add(q, s, [int(i) for i in ids], QUANTITIES[q][1],
+                           v[..., cols] if v.ndim > 1 else v)
             if "reaction" in g and want("reaction"):
                 r = g["reaction"][...]
                 rows = np.flatnonzero(np.any(r != 0.0, axis=1))
                 rs.add("reaction", s, [int(i) + 1 for i in rows], ("rx", "ry"), r[rows])
-            element_ids = [int(e) + 1 for e in elements]
-            if "stress_centroid" in g and want("stress"):
-                rs.add("stress", s, element_ids, QUANTITIES["stress"][1],
-                       g["stress_centroid"][...][elements])
-            # The angle of sigma1 is left out: it is undefined where sigma1 = sigma3.
-            if "principal" in g and want("principal"):
-                rs.add("principal", s, element_ids, ("s1", "s3"),
-                       g["principal"][...][elements, :2])
-            if "stress_level" in g and want("stress_level"):
-                rs.add("stress_level", s, element_ids, ("level",),
-                       g["stress_level"][...][elements])
-            a = g.attrs
             comps = [c for c in QUANTITIES["counts"][1] if c in a]
             if comps and want("counts", comps):
                 rs.add("counts", s, ["-"], comps, [[float(a[c]) for c in comps]])
@@ -199,16 +178,13 @@ def read_h5(path, wanted=None):
                         comps += [c + "_x", c + "_y"]
                         vals += [float(v) for v in a[attr][:2]]
                 rs.add("loads", s, ["-"], comps, [vals])
-            if "max_residual" in a and want("residual"):
-                rs.add("residual", s, ["-"], ["max_residual"], [[float(a["max_residual"])]])
-            # Absent while the reservoir is empty.
-            if "water_level" in a and want("water_level"):
-                rs.add("water_level", s, ["-"], ["level"], [[float(a["water_level"])]])
+            for q, attr in (("residual", "max_residual"), ("water_level", "water_level")):
+                if attr in a and want(q):    # (no water level while the reservoir is empty)
+                    rs.add(q, s, ["-"], QUANTITIES[q][1], [[float(a[attr])]])
             if "displacement_total" in g:
                 get_extremes = want("extremes") and len(nodes) > 0
                 get_gauges = bool(gauges) and want("gauge")
-                if get_extremes or get_gauges:
-                    u = g["displacement_total"][...]
+                u = g["displacement_total"][...] if get_extremes or get_gauges else None
                 if get_extremes:
                     un = u[nodes - 1]
                     rs.add("extremes", s, ["-"], QUANTITIES["extremes"][1],
@@ -216,45 +192,32 @@ def read_h5(path, wanted=None):
                 if get_gauges:
                     rs.add("gauge", s, [n for n, _ in gauges], ("ux", "settlement"),
                            [[u[k - 1, 0], -u[k - 1, 1]] for _, k in gauges])
-            if "interface" in g and iface_elements is not None:
-                r = g["interface"]
+            for where in ("interface", "contact"):
+                if where not in g or (where == "interface" and iface_elements is None):
+                    continue
+                r = g[where]
                 if "opening_width" in r and want("opening"):
                     ids = [group_names[k - 1] if 0 < k <= len(group_names) else str(k)
                            for k in r["opening_group"][...]]
                     rs.add("opening", s, ids, ("width", "depth"),
                            np.column_stack([r["opening_width"][...], r["opening_depth"][...]]))
-                if "sigma_n" in r and want("interface"):
+                if where == "interface" and "sigma_n" in r and want("interface"):
                     on = r["active"][...].astype(bool) if "active" in r else \
                         np.ones(len(iface_elements), bool)
-                    ids, vals = [], []
-                    cols = [r[c][...] for c in ("sigma_n", "tau", "du_n", "du_s")]
-                    for i in np.flatnonzero(on):
-                        for p in range(cols[0].shape[1]):
-                            ids.append(f"{int(iface_elements[i])}/{p + 1}")
-                            vals.append([c[i, p] for c in cols])
-                    rs.add("interface", s, ids, QUANTITIES["interface"][1], vals)
-            if "contact" in g:
-                r = g["contact"]
-                if "opening_width" in r and want("opening"):
-                    ids = [group_names[k - 1] if 0 < k <= len(group_names) else str(k)
-                           for k in r["opening_group"][...]]
-                    rs.add("opening", s, ids, ("width", "depth"),
-                           np.column_stack([r["opening_width"][...], r["opening_depth"][...]]))
-                if "gap" in r and want("contact"):
+                    cols = [r[c][...] for c in QUANTITIES["interface"][1]]
+                    pts = [(i, p) for i in np.flatnonzero(on) for p in range(cols[0].shape[1])]
+                    rs.add("interface", s, [f"{int(iface_elements[i])}/{p + 1}" for i, p in pts],
+                           QUANTITIES["interface"][1], [[c[i, p] for c in cols] for i, p in pts])
+                if where == "contact" and "gap" in r and want("contact"):
                     on = r["placed"][...].astype(bool)
-                    nodes = r["node"][...][on]
-                    if len(nodes):
-                        rs.add("contact", s, [int(k) for k in nodes],
-                               QUANTITIES["contact"][1],
-                               np.column_stack([r[c][...][on] for c in
-                                                QUANTITIES["contact"][1]]))
-            if "slab" in g and "axial" in g["slab"] and want("slab"):
+                    if on.any():
+                        rs.add("contact", s, [int(k) for k in r["node"][...][on]],
+                               QUANTITIES["contact"][1], np.column_stack(
+                                   [r[c][...][on] for c in QUANTITIES["contact"][1]]))
+            if "slab" in g and "axial" in g["slab"] and want("slab") and len(g["slab/axial"]):
                 r = g["slab"]
-                n = len(r["axial"])
-                if n:
-                    rs.add("slab", s, list(range(1, n + 1)), ("axial", "shear", "moment"),
-                           np.column_stack([r["axial"][...], r["shear"][...],
-                                            r["moment"][...]]))
+                rs.add("slab", s, list(range(1, len(r["axial"]) + 1)), QUANTITIES["slab"][1],
+                       np.column_stack([r[c][...] for c in QUANTITIES["slab"][1]]))
     return rs
 
 
@@ -267,61 +230,49 @@ def open_text(path):
         raise InputError(f"{path}: cannot read ({exc.strerror})")
 
 
-def number(path, line, column, field):
+def number(where, field, name):
     try:
         return float(field)
     except ValueError:
-        raise InputError(f"{path}:{line}: column {column}: expected a number, "
-                         f"found '{field}'")
-
-
-def read_csv_rows(path):
-    """(line number, row) pairs of a CSV, '#' comment lines and blank lines skipped."""
-    with open_text(path) as fh:
-        lines = fh.read().splitlines()
-    rows = []
-    for number_, row in zip(range(1, len(lines) + 1), csv.reader(lines)):
-        if not row or not "".join(row).strip() or row[0].lstrip().startswith("#"):
-            continue
-        rows.append((number_, [c.strip() for c in row]))
-    if not rows:
-        raise InputError(f"{path}: no header line")
-    return rows
+        raise InputError(f"{where}: column {name}: expected a number, found '{field}'")
 
 
 def read_csv(path):
-    rows = read_csv_rows(path)
-    header_line, header = rows[0]
-    body = rows[1:]
+    with open_text(path) as fh:
+        lines = fh.read().splitlines()
+    rows = [(n, [c.strip() for c in row]) for n, row in enumerate(csv.reader(lines), 1)
+            if row and "".join(row).strip() and not row[0].lstrip().startswith("#")]
+    if not rows:
+        raise InputError(f"{path}: no header line")
+    (header_line, header), body = rows[0], rows[1:]
     rs = ResultSet(path)
     cols = {name: k for k, name in enumerate(header)}
 
     def field(line, row, name):
-        k = cols[name]
-        if k >= len(row):
+        if cols[name] >= len(row):
             raise InputError(f"{path}:{line}: column {name} missing (short row)")
-        return row[k]
+        return row[cols[name]]
 
     def stage_of(line, row):
         value = field(line, row, "stage")
         if not re.fullmatch(r"\d+", value):
             raise InputError(f"{path}:{line}: column stage: expected a stage number, "
                              f"found '{value}'")
-        s = int(value)
         if "label" in cols:
-            rs.stage_names[s] = field(line, row, "label")
-        return s
+            rs.stage_names[int(value)] = field(line, row, "label")
+        return int(value)
 
+    def num(line, name, value):
+        return number(f"{path}:{line}", value, name)
     if header[:5] == ["quantity", "stage", "location", "component", "value"]:
         for line, row in body:
             q, comp = row[0], row[3]
             if q not in QUANTITIES or comp not in QUANTITIES[q][1]:
                 raise InputError(f"{path}:{line}: unknown quantity/component '{q}/{comp}'")
-            s = stage_of(line, row)
             loc = row[2].split(" ", 1)[-1] if row[2] != "-" else "-"
             if QUANTITIES[q][0] in ("node", "element", "section", "slave"):
                 loc = int(loc)
-            rs.add_values(q, s, loc, comp, number(path, line, "value", row[4]))
+            rs.add_values(q, stage_of(line, row), loc, comp, num(line, "value", row[4]))
         return rs.finish()
     if "stage" not in cols:
         raise InputError(f"{path}:{header_line}: no 'stage' column: not a result table")
@@ -331,41 +282,25 @@ def read_csv(path):
         for line, row in body:
             s = stage_of(line, row)
             for k, name, comp in gauge_cols:
-                rs.add_values("gauge", s, name, comp, number(path, line, header[k], row[k]))
+                rs.add_values("gauge", s, name, comp, num(line, header[k], row[k]))
         return rs.finish()
-    if "width_m" in cols and "group" in cols:                 # DECK-openings.csv
-        for line, row in body:
-            s = stage_of(line, row)
-            for comp in ("width", "depth"):
-                rs.add_values("opening", s, field(line, row, "group"), comp,
-                              number(path, line, comp + "_m", field(line, row, comp + "_m")))
-        return rs.finish()
-    if "N_kN_per_m" in cols and "section" in cols:            # DECK-slab.csv
-        for line, row in body:
-            s = stage_of(line, row)
-            sec = int(field(line, row, "section"))
-            for comp, name in (("axial", "N_kN_per_m"), ("shear", "V_kN_per_m"),
-                               ("moment", "M_kNm_per_m")):
-                rs.add_values("slab", s, sec, comp, number(path, line, name,
-                                                          field(line, row, name)))
-        return rs.finish()
-    if "sigma_n_kPa" in cols and "point" in cols:             # DECK-interface.csv
-        for line, row in body:
-            s = stage_of(line, row)
-            loc = f"{field(line, row, 'element')}/{field(line, row, 'point')}"
-            for comp, name in (("sigma_n", "sigma_n_kPa"), ("tau", "tau_kPa"),
-                               ("du_n", "du_n_m"), ("du_s", "du_s_m")):
-                rs.add_values("interface", s, loc, comp, number(path, line, name,
-                                                               field(line, row, name)))
-        return rs.finish()
+    for key, (where, q, comps) in CFRD_CSVS.items():          # -openings, -slab, -interface
+        if key in cols and where in cols:
+            for line, row in body:
+                s = stage_of(line, row)
+                loc = int(field(line, row, "section")) if q == "slab" else field(
+                    line, row, "group") if q == "opening" else \
+                    f"{field(line, row, 'element')}/{field(line, row, 'point')}"
+                for comp, name in comps:
+                    rs.add_values(q, s, loc, comp, num(line, name, field(line, row, name)))
+            return rs.finish()
     # A result table: stage, one location column, component columns.
     kinds = [k for k in ("node", "element", "gauge", "phase", "section") if k in cols]
     kind = kinds[0] if len(kinds) == 1 else ("stage" if not kinds else None)
     if kind is None:
         raise InputError(f"{path}:{header_line}: more than one location column "
                          f"({', '.join(kinds)}): one table per location kind")
-    known = TABLE_COLUMNS[kind]
-    comp_cols = []
+    known, comp_cols = TABLE_COLUMNS[kind], []
     for k, name in enumerate(header):
         if name in ("stage", kind, "label"):
             continue
@@ -383,7 +318,7 @@ def read_csv(path):
             loc = int(loc)
         for k, name, q, comp in comp_cols:
             if k < len(row) and row[k] != "":
-                rs.add_values(q, s, loc, comp, number(path, line, name, row[k]))
+                rs.add_values(q, s, loc, comp, num(line, name, row[k]))
     return rs.finish()
 
 
@@ -397,59 +332,46 @@ def read_legacy_listing(path):
     if not lines or "LEGACY-STYLE LISTING" not in lines[0]:
         raise InputError(f"{path}:1: not a legacy-style listing of cfrd (no "
                          f"'LEGACY-STYLE LISTING' banner)")
-    stage, table = None, None
-    # (first column, width) of each field, 0-based, as write_legacy_listing writes them
-    node_fields = [("node", 0, 8), ("ux", 34, 13), ("uy", 47, 13)]
-    element_fields = [("element", 0, 8), ("sxx", 13, 13), ("syy", 26, 13), ("szz", 39, 13),
-                      ("sxy", 52, 13), ("s1", 65, 13), ("s3", 78, 13), ("level", 99, 9)]
-    for number, line in enumerate(lines, start=1):
+    # (name, first column 0-based, width) of each field, as write_legacy_listing writes them
+    fields = {"node": [("node", 0, 8), ("ux", 34, 13), ("uy", 47, 13)],
+              "element": [("element", 0, 8), ("sxx", 13, 13), ("syy", 26, 13),
+                          ("szz", 39, 13), ("sxy", 52, 13), ("s1", 65, 13), ("s3", 78, 13),
+                          ("level", 99, 9)]}
+    tables = {"NODAL POINT DISPLACEMENTS": "node", "ELEMENT STRESSES AT CENTROIDS": "element"}
+    stage = table = None
+    for n, line in enumerate(lines, start=1):
         m = re.match(r"1STAGE\s*(\d+)\s+(.*)$", line)
         if m:
             stage, table = int(m.group(1)), None
             rs.stage_names[stage] = m.group(2).strip()
             continue
-        if line.strip() == "NODAL POINT DISPLACEMENTS":
-            table = "node"
-            continue
-        if line.strip() == "ELEMENT STRESSES AT CENTROIDS":
-            table = "element"
-            continue
-        if not line.strip():
-            table = None                # a table ends at a blank line
+        if not line.strip() or line.strip() in tables:
+            table = tables.get(line.strip())        # a table ends at a blank line
             continue
         if table is None or line.lstrip().startswith(("NODE", "ELEM")):
             continue                    # stage lines, column headers
-        fields = node_fields if table == "node" else element_fields
         values = {}
-        for name, first, width in fields:
-            text_ = line[first:first + width].strip()
+        for name, first, width in fields[table]:
+            field = line[first:first + width].strip()
+            where = f"{path}:{n}:{first + 1}-{first + width}"
             if name in ("node", "element"):
-                if not text_.isdigit():
-                    raise InputError(f"{path}:{number}:{first + 1}-{first + width}: "
-                                     f"{name} number expected, found '{text_}'")
-                loc = int(text_)
+                if not field.isdigit():
+                    raise InputError(f"{where}: {name} number expected, found '{field}'")
+                loc = int(field)
             else:
-                values[name] = number_at(path, number, first, width, name, text_)
+                try:
+                    values[name] = float(field)
+                except ValueError:
+                    raise InputError(f"{where}: field {name}: expected a number, "
+                                     f"found '{field}'")
         if stage is None:
-            raise InputError(f"{path}:{number}: a table row before the first STAGE line")
-        if table == "node":
-            for c in ("ux", "uy"):
-                rs.add_values("displacement_total", stage, loc, c, values[c])
-        else:
-            for c in ("sxx", "syy", "szz", "sxy"):
-                rs.add_values("stress", stage, loc, c, values[c])
-            for c in ("s1", "s3"):
-                rs.add_values("principal", stage, loc, c, values[c])
-            rs.add_values("stress_level", stage, loc, "level", values["level"])
+            raise InputError(f"{path}:{n}: a table row before the first STAGE line")
+        pairs = [("displacement_total", c, c) for c in ("ux", "uy")] if table == "node" else \
+            [("stress", c, c) for c in ("sxx", "syy", "szz", "sxy")] + \
+            [("principal", c, c) for c in ("s1", "s3")] + [("stress_level", "level", "level")]
+        for q, c, name in pairs:
+            rs.add_values(q, stage, loc, c, values[name])
     return rs.finish()
-
-
-def number_at(path, line, first, width, name, field):
-    try:
-        return float(field)
-    except ValueError:
-        raise InputError(f"{path}:{line}:{first + 1}-{first + width}: field {name}: "
-                         f"expected a number, found '{field}'")
 
 
 def read_result_set(path, wanted=None):
@@ -457,12 +379,8 @@ def read_result_set(path, wanted=None):
         raise InputError(f"{path}: no such file")
     if path.endswith(".h5"):
         return read_h5(path, wanted)
-    if path.endswith(".lst"):
-        return read_legacy_listing(path)
-    return read_csv(path)
+    return read_legacy_listing(path) if path.endswith(".lst") else read_csv(path)
 
-
-# ------------------------------------------------------------------------------ comparing
 
 def parse_tolerance(text_, where):
     """'RTOL,ATOL' -> (rtol, atol, atol_is_scaled)."""
@@ -470,9 +388,8 @@ def parse_tolerance(text_, where):
     if len(parts) != 2:
         raise InputError(f"{where}: expected RTOL,ATOL, found '{text_}'")
     try:
-        rtol = float(parts[0])
         scaled = parts[1].endswith("max")
-        atol = float(parts[1][:-3] if scaled else parts[1])
+        rtol, atol = float(parts[0]), float(parts[1][:-3] if scaled else parts[1])
     except ValueError:
         raise InputError(f"{where}: expected RTOL,ATOL (ATOL a number or Xmax), "
                          f"found '{text_}'")
@@ -485,66 +402,49 @@ def compare(a, b, tolerances, default, quantities=None):
     """Compare result set b against the reference a. Returns a report dict."""
     rows = []            # (ratio, quantity, stage, loc, comp, va, vb, allowed)
     missing = []         # (quantity, stage, loc, comp)
-    per_q = {}
-    only_a = sorted(set(a.available) - set(b.available))
-    only_b = sorted(set(b.available) - set(a.available))
-    common = [q for q in QUANTITIES if q in a.available and q in b.available]
-    if quantities:
-        common = [q for q in common if q in quantities]
-    skipped_components = set()
-    b_components = {q: b.available[q] for q in common}
+    per_q, skipped = {}, set()
+    common = [q for q in QUANTITIES if q in a.available and q in b.available
+              and (not quantities or q in quantities)]
     for q in common:
         rtol, atol, scaled = tolerances.get(q, default)
         keys = sorted(k for k in a.blocks if k[0] == q)
         comps = [c for c in QUANTITIES[q][1]
-                 if c in b_components[q] and any(c in a.blocks[k].components for k in keys)]
+                 if c in b.available[q] and any(c in a.blocks[k].components for k in keys)]
         for k in keys:
-            skipped_components.update((q, c) for c in a.blocks[k].components
-                                      if c not in comps)
+            skipped.update((q, c) for c in a.blocks[k].components if c not in comps)
         # Scale of the quantity in A: over all its components, but per component for the
         # counts (increments, iterations, ... are different things).
         scale = {}
         for c in comps:
-            m = 0.0
-            for k in keys:
-                blk = a.blocks[k]
-                if c in blk.components:
-                    v = blk.values[:, blk.components.index(c)]
-                    v = v[np.isfinite(v)]
-                    if v.size:
-                        m = max(m, float(np.abs(v).max()))
-            scale[c] = m
+            v = np.concatenate([a.blocks[k].values[:, a.blocks[k].components.index(c)]
+                                for k in keys if c in a.blocks[k].components])
+            v = v[np.isfinite(v)]
+            scale[c] = float(np.abs(v).max()) if v.size else 0.0
         if q != "counts":
             scale = {c: max(scale.values(), default=0.0) for c in comps}
         stats = per_q.setdefault(q, {"count": 0, "fail": 0, "max_abs": 0.0, "max_rel": 0.0,
-                                     "max_scaled": 0.0,
-                                     "rtol": rtol, "atol": atol, "scaled": scaled,
-                                     "scale": max(scale.values(), default=0.0)})
+                                     "max_scaled": 0.0, "rtol": rtol, "atol": atol,
+                                     "scaled": scaled, "scale": max(scale.values(), default=0.0)})
         for key in keys:
-            blk_a = a.blocks[key]
-            blk_b = b.blocks.get(key)
-            stage = key[1]
+            blk_a, blk_b = a.blocks[key], b.blocks.get(key)
             index_b = {} if blk_b is None else {i: n for n, i in enumerate(blk_b.ids)}
-            for c in comps:
-                if c not in blk_a.components:
-                    continue
+            for c in (c for c in comps if c in blk_a.components):
                 col_a = blk_a.values[:, blk_a.components.index(c)]
-                col_b_all = None
-                if blk_b is not None and c in blk_b.components:
-                    col_b_all = blk_b.values[:, blk_b.components.index(c)]
-                take = [(n, index_b.get(i)) for n, i in enumerate(blk_a.ids)
-                        if math.isfinite(col_a[n])]
-                for n, m in take:
-                    if m is None or col_b_all is None or not math.isfinite(col_b_all[m]):
-                        missing.append((q, stage, blk_a.ids[n], c))
-                found = [(n, m) for n, m in take
-                         if m is not None and col_b_all is not None
-                         and math.isfinite(col_b_all[m])]
+                col_b = blk_b.values[:, blk_b.components.index(c)] \
+                    if blk_b is not None and c in blk_b.components else None
+                found = []
+                for n, i in enumerate(blk_a.ids):
+                    if not math.isfinite(col_a[n]):
+                        continue
+                    m = index_b.get(i)
+                    if m is None or col_b is None or not math.isfinite(col_b[m]):
+                        missing.append((q, key[1], i, c))
+                    else:
+                        found.append((n, m))
                 if not found:
                     continue
-                na = np.array([n for n, _ in found])
-                nb = np.array([m for _, m in found])
-                va, vb = col_a[na], col_b_all[nb]
+                na, nb = (np.array(x) for x in zip(*found))
+                va, vb = col_a[na], col_b[nb]
                 diff = np.abs(vb - va)
                 allowed = (atol * scale[c] if scaled else atol) + rtol * np.abs(va)
                 with np.errstate(divide="ignore", invalid="ignore"):
@@ -557,16 +457,15 @@ def compare(a, b, tolerances, default, quantities=None):
                 stats["max_abs"] = max(stats["max_abs"], float(diff.max()))
                 stats["max_rel"] = max(stats["max_rel"], float(rel.max()))
                 if scale[c] > 0:
-                    stats["max_scaled"] = max(stats["max_scaled"],
-                                              float(diff.max()) / scale[c])
+                    stats["max_scaled"] = max(stats["max_scaled"], float(diff.max()) / scale[c])
                 # Keep the worst few of each column for the ranking.
-                worst = np.argsort(-ratio, kind="stable")[:50]
-                for w in worst:
-                    rows.append((float(ratio[w]), q, stage, blk_a.ids[na[w]], c,
-                                 float(va[w]), float(vb[w]), float(allowed[w])))
+                rows += [(float(ratio[w]), q, key[1], blk_a.ids[na[w]], c, float(va[w]),
+                          float(vb[w]), float(allowed[w]))
+                         for w in np.argsort(-ratio, kind="stable")[:50]]
     rows.sort(key=lambda r: -r[0])
-    return {"rows": rows, "missing": missing, "per_q": per_q, "only_a": only_a,
-            "only_b": only_b, "skipped": sorted(skipped_components),
+    return {"rows": rows, "missing": missing, "per_q": per_q,
+            "only_a": sorted(set(a.available) - set(b.available)),
+            "only_b": sorted(set(b.available) - set(a.available)), "skipped": sorted(skipped),
             "compared": sum(s["count"] for s in per_q.values())}
 
 
@@ -576,51 +475,46 @@ def stage_text(rs, stage):
 
 
 def print_report(report, a, b, worst, out=sys.stdout):
+    def say(line):
+        print(line, file=out)
     per_q = report["per_q"]
     failed = sum(s["fail"] for s in per_q.values())
-    print(f"A (reference): {a.path}", file=out)
-    print(f"B (compared):  {b.path}", file=out)
+    say(f"A (reference): {a.path}")
+    say(f"B (compared):  {b.path}")
     bad = [r for r in report["rows"] if r[0] > 1]
-    shown = report["rows"][:worst] if not bad else bad[:worst]
-    title = "worst differences" if not bad else "differences beyond tolerance, worst first"
+    shown = bad[:worst] if bad else report["rows"][:worst]
     if shown:
-        print(f"{title} (|B-A| / allowed, allowed = atol + rtol |A|):", file=out)
-        print(f"  {'ratio':>9}  {'quantity':<18} {'component':<14} {'where':<16} "
-              f"{'A':>16} {'B':>16} {'|B-A|':>10}  stage", file=out)
+        say(f"{'differences beyond tolerance, worst first' if bad else 'worst differences'} "
+            f"(|B-A| / allowed, allowed = atol + rtol |A|):")
+        say(f"  {'ratio':>9}  {'quantity':<18} {'component':<14} {'where':<16} "
+            f"{'A':>16} {'B':>16} {'|B-A|':>10}  stage")
         for ratio, q, stage, loc, c, va, vb, allowed in shown:
-            print(f"  {ratio:9.2e}  {q:<18} {c:<14} {location_text(q, loc):<16} "
-                  f"{va:16.9e} {vb:16.9e} {abs(vb - va):10.3e}  {stage_text(a, stage)}",
-                  file=out)
+            say(f"  {ratio:9.2e}  {q:<18} {c:<14} {location_text(q, loc):<16} "
+                f"{va:16.9e} {vb:16.9e} {abs(vb - va):10.3e}  {stage_text(a, stage)}")
     for q, stage, loc, c in report["missing"][:worst]:
-        print(f"  missing in B: {q} {c} at {location_text(q, loc)}, {stage_text(a, stage)}",
-              file=out)
+        say(f"  missing in B: {q} {c} at {location_text(q, loc)}, {stage_text(a, stage)}")
     if len(report["missing"]) > worst:
-        print(f"  ... and {len(report['missing']) - worst} more missing", file=out)
-    print("per quantity:", file=out)
+        say(f"  ... and {len(report['missing']) - worst} more missing")
+    say("per quantity:")
     for q, s in per_q.items():
         atol = f"{s['atol']:g}*max|A| = {s['atol'] * s['scale']:.3g}" if s["scaled"] \
             else f"{s['atol']:g}"
-        print(f"  {q:<18} {s['count']:8d} values, {s['fail']:6d} beyond, max |B-A| "
-              f"{s['max_abs']:.2e}, /|A| {s['max_rel']:.2e}, /max|A| {s['max_scaled']:.2e} "
-              f"(rtol {s['rtol']:g}, atol {atol})", file=out)
-    if report["only_a"]:
-        print(f"  only in A (not compared): {', '.join(report['only_a'])}", file=out)
-    if report["only_b"]:
-        print(f"  only in B (not compared): {', '.join(report['only_b'])}", file=out)
+        say(f"  {q:<18} {s['count']:8d} values, {s['fail']:6d} beyond, max |B-A| "
+            f"{s['max_abs']:.2e}, /|A| {s['max_rel']:.2e}, /max|A| {s['max_scaled']:.2e} "
+            f"(rtol {s['rtol']:g}, atol {atol})")
+    for side in ("a", "b"):
+        if report["only_" + side]:
+            say(f"  only in {side.upper()} (not compared): {', '.join(report['only_' + side])}")
     if report["skipped"]:
-        print("  components of A not in B (not compared): "
-              + ", ".join(f"{q}/{c}" for q, c in report["skipped"]), file=out)
+        say("  components of A not in B (not compared): "
+            + ", ".join(f"{q}/{c}" for q, c in report["skipped"]))
     ok = failed == 0 and not report["missing"] and report["compared"] > 0
     verdict = "AGREE" if ok else "DIFFER"
-    if report["compared"] == 0:
-        print(f"{verdict}: nothing in common to compare", file=out)
-    else:
-        print(f"{verdict}: {report['compared']} values compared, {failed} beyond tolerance, "
-              f"{len(report['missing'])} missing in B", file=out)
+    say(f"{verdict}: nothing in common to compare" if report["compared"] == 0 else
+        f"{verdict}: {report['compared']} values compared, {failed} beyond tolerance, "
+        f"{len(report['missing'])} missing in B")
     return ok
 
-
-# ------------------------------------------------------------------------------ reducing
 
 def reduce_results(path, out, full_stages="last", header=(), quantities=None):
     """Write the compact long-form reference of a cfrd HDF5 file: at every stage the stage
@@ -633,55 +527,47 @@ def reduce_results(path, out, full_stages="last", header=(), quantities=None):
                  "opening", "contact")
     lines = [f"# {h}" for h in header] + ["quantity,stage,location,component,value"]
     for (q, s) in sorted(rs.blocks, key=lambda k: (k[1], list(QUANTITIES).index(k[0]))):
-        if q not in per_stage and full_stages == "last" and s != last:
-            continue
-        if q == "principal" or (quantities and q not in quantities):
-            continue                    # derived from the stresses, or not asked for
+        if (q not in per_stage and full_stages == "last" and s != last) or q == "principal" \
+                or (quantities and q not in quantities):
+            continue                    # principal: derived from the stresses
         blk = rs.blocks[(q, s)]
-        if q == "displacement":
-            tot = rs.blocks.get(("displacement_total", s))
-            if tot is not None and tot.ids == blk.ids and np.array_equal(tot.values,
-                                                                        blk.values):
-                continue
-        for i, loc in enumerate(blk.ids):
-            where = location_text(q, loc)
-            for j, c in enumerate(blk.components):
-                v = blk.values[i, j]
-                if math.isfinite(v):
-                    lines.append(f"{q},{s},{where},{c},{v:.12g}")
+        tot = rs.blocks.get(("displacement_total", s))
+        if q == "displacement" and tot is not None and tot.ids == blk.ids and \
+                np.array_equal(tot.values, blk.values):
+            continue
+        lines += [f"{q},{s},{location_text(q, loc)},{c},{v:.12g}" for i, loc in enumerate(blk.ids)
+                  for j, c in enumerate(blk.components) for v in [blk.values[i, j]]
+                  if math.isfinite(v)]
     data = ("\n".join(lines) + "\n").encode()
     tmp = out + ".part"
-    if out.endswith(".gz"):
-        # mtime 0: the same results give the same bytes (no spurious git changes).
-        with open(tmp, "wb") as raw, gzip.GzipFile(fileobj=raw, mode="wb", mtime=0,
-                                                   filename="") as fh:
-            fh.write(data)
-    else:
-        with open(tmp, "wb") as fh:
-            fh.write(data)
+    with open(tmp, "wb") as raw:
+        if out.endswith(".gz"):
+            # mtime 0: the same results give the same bytes (no spurious git changes).
+            with gzip.GzipFile(fileobj=raw, mode="wb", mtime=0, filename="") as fh:
+                fh.write(data)
+        else:
+            raw.write(data)
     os.replace(tmp, out)
     return len(lines) - 1 - len(header)
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(
-        description="Compare two cfrd result sets quantity by quantity.",
-        epilog="Details: docs/results.md, section 'Comparing results'.")
-    parser.add_argument("a", help="reference: .h5, .csv, .csv.gz or .lst")
-    parser.add_argument("b", help="compared result set (with --reduce: the output file)")
-    parser.add_argument("--rtol", type=float, default=1e-9,
-                        help="relative tolerance (default 1e-9)")
-    parser.add_argument("--atol", default="0",
-                        help="absolute tolerance: a number or Xmax (default 0)")
-    parser.add_argument("--tol", action="append", default=[], metavar="QUANTITY=RTOL,ATOL",
-                        help="tolerance of one quantity (repeatable)")
-    parser.add_argument("--quantities", help="compare only these (comma-separated)")
-    parser.add_argument("--worst", type=int, default=10, help="lines of differences shown")
-    parser.add_argument("--reduce", action="store_true",
-                        help="write the compact long-form reference of A (an .h5) to B")
-    parser.add_argument("--all-stages", action="store_true",
-                        help="with --reduce: fields at every stage, not only the last")
-    args = parser.parse_args(argv)
+    ap = argparse.ArgumentParser(description="Compare two cfrd result sets quantity by "
+                                 "quantity.", epilog="Details: docs/results.md, section "
+                                 "'Comparing results'.")
+    ap.add_argument("a", help="reference: .h5, .csv, .csv.gz or .lst")
+    ap.add_argument("b", help="compared result set (with --reduce: the output file)")
+    ap.add_argument("--rtol", type=float, default=1e-9, help="relative tolerance (default 1e-9)")
+    ap.add_argument("--atol", default="0", help="absolute tolerance: a number or Xmax (default 0)")
+    ap.add_argument("--tol", action="append", default=[], metavar="QUANTITY=RTOL,ATOL",
+                    help="tolerance of one quantity (repeatable)")
+    ap.add_argument("--quantities", help="compare only these (comma-separated)")
+    ap.add_argument("--worst", type=int, default=10, help="lines of differences shown")
+    ap.add_argument("--reduce", action="store_true",
+                    help="write the compact long-form reference of A (an .h5) to B")
+    ap.add_argument("--all-stages", action="store_true",
+                    help="with --reduce: fields at every stage, not only the last")
+    args = ap.parse_args(argv)
     try:
         if args.reduce:
             if not args.a.endswith(".h5"):
@@ -697,22 +583,18 @@ def main(argv=None):
                 raise InputError(f"--tol {spec}: expected QUANTITY=RTOL,ATOL with QUANTITY "
                                  f"one of {', '.join(QUANTITIES)}")
             tolerances[q] = parse_tolerance(value, f"--tol {spec}")
-        quantities = None
-        if args.quantities:
-            quantities = args.quantities.split(",")
-            bad = [q for q in quantities if q not in QUANTITIES]
-            if bad:
-                raise InputError(f"--quantities: unknown {', '.join(bad)}")
+        quantities = args.quantities.split(",") if args.quantities else None
+        bad = [q for q in quantities or () if q not in QUANTITIES]
+        if bad:
+            raise InputError(f"--quantities: unknown {', '.join(bad)}")
         a = read_result_set(args.a)
         # Read from B only what A has (a full HDF5 file holds far more than a reference).
-        wanted = set(a.blocks) if args.b.endswith(".h5") else None
-        b = read_result_set(args.b, wanted) if wanted is not None else \
-            read_result_set(args.b)
+        b = read_result_set(args.b, set(a.blocks) if args.b.endswith(".h5") else None)
     except InputError as exc:
         print(f"compare: {exc}", file=sys.stderr)
         return 2
-    report = compare(a, b, tolerances, default, quantities)
-    return 0 if print_report(report, a, b, args.worst) else 1
+    return 0 if print_report(compare(a, b, tolerances, default, quantities), a, b,
+                             args.worst) else 1
 
 
 if __name__ == "__main__":

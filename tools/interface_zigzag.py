@@ -21,23 +21,19 @@ import sys
 
 import numpy as np
 
+from cfrdtools.checks import Checks
+
 
 def zigzag(s, y):
     """Largest zig-zag amplitude of y at increasing stations s, and its index (or None)."""
-    s = np.asarray(s, dtype=float)
-    y = np.asarray(y, dtype=float)
-    n = len(y)
-    d = np.zeros(n)
-    a = np.zeros(n)
-    for i in range(1, n - 1):
-        d[i] = 2.0 * ((y[i + 1] - y[i]) / (s[i + 1] - s[i])
-                      - (y[i] - y[i - 1]) / (s[i] - s[i - 1])) / (s[i + 1] - s[i - 1])
-        a[i] = abs(d[i]) * (0.5 * (s[i + 1] - s[i - 1])) ** 2 / 4.0
-    amp, where = 0.0, None
-    for i in range(1, n - 2):
-        if d[i] * d[i + 1] < 0.0 and min(a[i], a[i + 1]) > amp:
-            amp, where = min(a[i], a[i + 1]), i
-    return amp, where
+    s, y = np.asarray(s, dtype=float), np.asarray(y, dtype=float)
+    d, a = np.zeros(len(y)), np.zeros(len(y))
+    ds, dy = np.diff(s), np.diff(y)
+    d[1:-1] = 2.0 * (dy[1:] / ds[1:] - dy[:-1] / ds[:-1]) / (s[2:] - s[:-2])
+    a[1:-1] = np.abs(d[1:-1]) * (0.5 * (s[2:] - s[:-2])) ** 2 / 4.0
+    pair = np.where(d[1:-2] * d[2:-1] < 0.0, np.minimum(a[1:-2], a[2:-1]), 0.0)
+    i = int(np.argmax(pair)) if pair.size else 0
+    return (float(pair[i]), i + 1) if pair.size and pair[i] > 0.0 else (0.0, None)
 
 
 def phases(rows):
@@ -57,24 +53,20 @@ def phases(rows):
 
 def selftest():
     """The measure on closed forms: PASS/FAIL lines."""
-    ok = True
     h = 1.5
     s = h * np.arange(12)
-    saw = 3.0 + 0.7 * s + 2.5 * (-1.0) ** np.arange(12)
     g = 1.0 / np.sqrt(3.0)
     gauss = np.ravel([[k + 0.5 * (1 - g), k + 0.5 * (1 + g)] for k in range(10)]) * h
-    checks = [
-        ("sawtooth of amplitude 2.5 on a line, uniform spacing", zigzag(s, saw)[0], 2.5),
-        ("straight line at the Gauss stations", zigzag(gauss, 4.0 - 3.0 * gauss)[0], 0.0),
-        ("parabola at the Gauss stations", zigzag(gauss, 1.0 + gauss ** 2)[0], 0.0),
-        ("decaying 1/sqrt(r) at the nodes", zigzag(s + 1.0, 1.0 / np.sqrt(s + 1.0))[0], 0.0),
-    ]
-    for name, got, want in checks:
-        good = abs(got - want) <= 1e-12 * max(1.0, abs(want))
-        ok = ok and good
-        print(f"{'PASS' if good else 'FAIL'} interface-zigzag/{name}: {got:.3e} "
-              f"(closed form {want}, tol 1e-12)")
-    return 0 if ok else 1
+    check = Checks("interface-zigzag")
+    for name, got, want in (
+            ("sawtooth of amplitude 2.5 on a line, uniform spacing",
+             zigzag(s, 3.0 + 0.7 * s + 2.5 * (-1.0) ** np.arange(12))[0], 2.5),
+            ("straight line at the Gauss stations", zigzag(gauss, 4.0 - 3.0 * gauss)[0], 0.0),
+            ("parabola at the Gauss stations", zigzag(gauss, 1.0 + gauss ** 2)[0], 0.0),
+            ("decaying 1/sqrt(r) at the nodes", zigzag(s + 1.0, 1.0 / np.sqrt(s + 1.0))[0], 0.0)):
+        check(name, abs(got - want) <= 1e-12 * max(1.0, abs(want)),
+              f"{got:.3e} (closed form {want}, tol 1e-12)")
+    return check.status
 
 
 def main(argv=None):

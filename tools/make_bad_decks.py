@@ -26,9 +26,15 @@ END
 # line numbers (with the expect card as line 1): TITLE 2, CONTROL 3, counts 4, NODES 5,
 # node cards 6-7, ELEMENTS 8, element 9, MATERIALS 10, mat 11-12, BOUNDARY 13, bc 14,
 # LOADS 15, GRAVITY 16, END 17
-def sub(old, new, count=1):
-    assert old in base, old
-    return base.replace(old, new, count)
+def editor(deck):
+    """A function (old, new) -> the deck with its first `old` replaced by `new`."""
+    def sub(old, new):
+        assert old in deck, old
+        return deck.replace(old, new, 1)
+    return sub
+
+
+sub = editor(base)
 P = "test/bad_decks/"
 cases = [
  ("unknown-group", sub("LOADS\n", "LODES\n"), "{f}:15: unknown group 'LODES'"),
@@ -120,9 +126,7 @@ END
 """
 # lines: TITLE 2, NODES 3, nodes 4-7, ELEMENTS 8, elements 9-10, MATERIALS 11, 12-15,
 # INTERFACE 16, pair card 17, BOUNDARY 18, 19, LOADS 20, GRAVITY 21, END 22
-def jsub(old, new):
-    assert old in jbase, old
-    return jbase.replace(old, new, 1)
+jsub = editor(jbase)
 PAIR = "    1    4    7    2    1    1    2JOINT     LOBATTO   SLAB"
 cases += [
  ("goodman-missing-knt", jsub("     1.0E7     1.0E4", "     1.0E7          "), "{f}:15:11-20: field KNT of MATERIALS 2: expected a real > 0 (kPa/m), found ''"),
@@ -163,9 +167,7 @@ END
 """
 # lines: TITLE 2, NODES 3, nodes 4-7, ELEMENTS 8, elements 9-10, MATERIALS 11, 12-13,
 # CONTACT 14, SURFACE 15-16, PAIR 17, BOUNDARY 18, 19, LOADS 20, GRAVITY 21, END 22
-def csub(old, new):
-    assert old in cbase, old
-    return cbase.replace(old, new, 1)
+csub = editor(cbase)
 SURF = "SURFACE   BASE          1    3    1    1"
 CPAIR = "PAIR      TOP       BASE           0.5"
 cases += [
@@ -199,9 +201,7 @@ tbase = base.replace("    1ELASTIC   soil\n   20000.0       0.3      20.0\n",
 # lines: ... MATERIALS 10, EB cards 11-13, CREEP 14, BOUNDARY 15, bc 16, STAGES 17,
 # FILL 18, WAIT 19, END 20
 CREEP = "CREEP         0.01     0.002       0.5     0.004       1.0"
-def tsub(old, new):
-    assert old in tbase, old
-    return tbase.replace(old, new, 1)
+tsub = editor(tbase)
 cases += [
  ("creep-not-eb", sub("   20000.0       0.3      20.0\n", "   20000.0       0.3      20.0\n" + CREEP + "\n"), "{f}:13: a CREEP card follows the two parameter cards of an EB material (MATERIALS 1 is not EB)"),
  ("creep-alpha-negative", tsub(CREEP, CREEP.replace("      0.01", "     -0.01")), "{f}:14:11-20: field ALPHA of MATERIALS 1 CREEP: expected a real with 0 < ALPHA <= 1 (1/day), found '-0.01'"),
@@ -215,10 +215,7 @@ cases += [
 ]
 # Wetting collapse (issue 19): the WETTING card of an EB material and the WET stage.
 WETTING = "WETTING      0.003       0.6     0.004"
-def wsub(old, new):
-    deck = tbase.replace(CREEP + "\n", CREEP + "\n" + WETTING + "\n", 1)
-    assert old in deck, old
-    return deck.replace(old, new, 1)
+wsub = editor(tbase.replace(CREEP + "\n", CREEP + "\n" + WETTING + "\n", 1))
 cases += [
  ("wetting-not-eb", sub("   20000.0       0.3      20.0\n", "   20000.0       0.3      20.0\n" + WETTING + "\n"), "{f}:13: a WETTING card follows the two parameter cards of an EB material or its CREEP card (MATERIALS 1 is not EB)"),
  ("wetting-before-creep", tsub(CREEP + "\n", WETTING + "\n" + CREEP + "\n"), "{f}:15: a CREEP card follows the two parameter cards of an EB material (MATERIALS 1: CREEP before WETTING)"),
@@ -226,6 +223,16 @@ cases += [
  ("wetting-nw-zero", wsub(WETTING, WETTING.replace("       0.6", "       0.0")), "{f}:15:21-30: field NW of MATERIALS 1 WETTING: expected a real with 0 < NW <= 3, found '0.0'"),
  ("wet-without-wetting", tsub("WAIT                    41998-05-01", "WET            690.0    41998-05-01"), "{f}:19: WET stage, but no material has a WETTING card (nothing would collapse)"),
  ("wet-level-word", wsub("WAIT                    41998-05-01", "WET             HIGH    41998-05-01"), "{f}:20:11-20: field LEVEL of STAGES WET: expected a real number, found 'HIGH'"),
+]
+# Bounds whose messages once stated others (issue 18): the message names the bound checked.
+EB2 = "      20.0     564.0      0.35      0.85     204.0      0.18"
+cases += [
+ ("eb-n-bound", tsub(EB2, EB2.replace("      0.35", "    0.9995")), "{f}:12:21-30: field N of MATERIALS 1: expected a real with 0 <= N <= 0.999, found '0.9995'"),
+ ("eb-m-bound", tsub(EB2, EB2.replace("      0.18", "   -0.9995")), "{f}:12:51-60: field M of MATERIALS 1: expected a real with -0.999 <= M <= 0.999, found '-0.9995'"),
+ ("eb-phi0-bound", tsub("      51.0      13.0", "      89.5      13.0"), "{f}:13:1-10: field PHI0 of MATERIALS 1: expected an angle in degrees, 0 < PHI0 <= 89, found '89.5'"),
+ ("eb-dphi-bound", tsub("      51.0      13.0", "      51.0      89.5"), "{f}:13:11-20: field DPHI of MATERIALS 1: expected an angle in degrees, 0 <= DPHI <= 89, found '89.5'"),
+ ("goodman-n1-bound", jsub("      1000       0.3", "      1000    0.9995"), "{f}:15:31-40: field N1 of MATERIALS 2: expected a real with 0 <= N1 <= 0.999, found '0.9995'"),
+ ("goodman-phi-bound", jsub("       1.0      30.0", "       1.0      89.5"), "{f}:15:51-60: field PHI of MATERIALS 2: expected an angle in degrees, 0 < PHI <= 89, found '89.5'"),
 ]
 for old in os.listdir(P):
     os.remove(P + old)

@@ -1,44 +1,18 @@
 #!/usr/bin/env python3
-"""The regression suite (issue 8, section 4): every deck in inputs/ has reference results in
-outputs/, and a fresh run must reproduce them.
+"""The regression suite (issue 8, section 4; docs/results.md, "The regression suite"): every
+deck in inputs/ has reference results in outputs/, and a fresh run must reproduce them.
 
     python3 tools/regression.py --cfrd build/debug-bin/cfrd --workdir DIR   (make test)
     python3 tools/regression.py --refresh [--cfrd bin/cfrd] [--force] [DECK ...]
                                                                        (make references)
 
-The references are compact (docs/results.md, "The regression suite"):
-outputs/reference/DECK.csv.gz, written by `tools/compare.py --reduce`, holds at every stage
-the stage's counts, loads, residual, reservoir level, extreme displacements, gauges and
-slab openings, and at the last stage every field (displacements, reactions, centroid
-stresses, stress levels, interface stations, slab sections) to 12 significant digits.
-Where outputs/ also holds a deck's CSV (DECK-gauges.csv, -openings.csv, -slab.csv,
--interface.csv), the fresh CSV is compared with it too.
-
-Tolerances (|fresh - reference| <= atol + rtol |reference|, max = the largest |value| of
-that quantity in the reference), from the spread of results when only the round-off
-changes: release and debug builds, one or two BLAS threads, OpenBLAS's Prescott and
-Sandybridge kernels, on the project machine (docs/results.md has the table):
-
-  elastic decks (ELASTIC materials only):  1e-9 max (measured spread <= 2.3e-13 max);
-  nonlinear decks (EB or GOODMAN):         1e-5 max (measured <= 1.2e-8 max, on the x2
-      mesh; <= 1.1e-10 on the x1 meshes), stress levels 1e-4 max (measured 1.8e-6 on x2:
-      the midpoint E-B path amplifies round-off), integer counts +-1 (a stress level within
-      round-off of the 0.95 near-failure bound, or a Newton iteration converging right at
-      its tolerance, can move a count by one on another machine), and the relative
-      residual 1e-4 of itself (measured 7e-7) plus 1e-9;
-  elastic decks: the residual, a dimensionless out-of-balance and round-off (1e-16 to
-      1e-12) in a linear run, within 1e-9 absolute; counts exact.
-
---refresh runs the decks with the release program and rewrites a deck's reference (and
-the CSVs and listing of it that outputs/ holds) only where the fresh results differ from
-the old reference beyond these tolerances, or where it has none (--force: all). It prints
-what changed, to be explained in the commit that updates outputs/.
-
-A deck of FIGURES_ONLY (below) is compared, and its reference written, on the quantities
-named there only: its fields move beyond these tolerances from one build to another (a
-stress level within round-off of the near-failure bound), the figures it is for do not.
-
-Prints one PASS/FAIL line per deck and file; exit status 1 if any failed.
+The references: outputs/reference/DECK.csv.gz, written by `tools/compare.py --reduce`, and
+the CSVs of a deck that outputs/ holds. Tolerances, from the spread of results when only the
+round-off changes (builds, BLAS threads and kernels): ELASTIC and NONLINEAR below.
+--refresh reruns the decks and rewrites a reference (and the CSVs and listing outputs/ holds
+of it) only where the results differ beyond these tolerances or it has none (--force: all),
+printing what changed. A deck of FIGURES_ONLY is compared, and its reference written, on the
+quantities named there only. One PASS/FAIL line per deck and file.
 """
 
 import argparse
@@ -50,6 +24,7 @@ import sys
 
 import batch
 import compare
+from cfrdtools.decks import materials
 
 REFERENCE_DIR = "outputs/reference"
 CSV_SUFFIXES = ("-gauges.csv", "-openings.csv", "-slab.csv", "-interface.csv")
@@ -67,7 +42,6 @@ FIGURES_ONLY = {
         " left out too: the near-failure count is a threshold count of these stress levels"
         " (98 against 99), and the increments and factorisations follow the active set"),
 }
-
 # (rtol, atol, atol is a multiple of the quantity's largest |value|)
 ELASTIC = {"default": (0.0, 1e-9, True), "counts": (0.0, 0.0, False),
            "residual": (0.0, 1e-9, False)}
@@ -75,57 +49,25 @@ NONLINEAR = {"default": (0.0, 1e-5, True), "stress_level": (0.0, 1e-4, True),
              "counts": (0.0, 1.0, False), "residual": (1e-4, 1e-9, False)}
 
 
-def material_laws(deck):
-    """The law names on the MATERIALS header cards (NUMBER in 1-5, LAW in 6-15)."""
-    laws, group = set(), None
-    with open(deck) as fh:
-        for line in fh:
-            line = line.rstrip("\n")
-            if not line.strip() or line.startswith("*"):
-                continue
-            word = line[:10].strip().upper()
-            if line[:1] != " " and word.isalpha():
-                group = word
-                continue
-            if group == "MATERIALS" and line[:5].strip().isdigit() and \
-                    line[5:15].strip().isalpha():
-                laws.add(line[5:15].strip().upper())
-    return laws
-
-
-def tolerances_for(deck):
-    table = ELASTIC if material_laws(deck) <= {"ELASTIC"} else NONLINEAR
-    default = table["default"]
-    return {q: table.get(q, default) for q in compare.QUANTITIES}, default, \
-        "elastic" if table is ELASTIC else "nonlinear"
-
-
-def figures_only(deck):
-    """The quantities compared for this deck (None: all) and a note for the verdict."""
-    entry = FIGURES_ONLY.get(batch.stem_of(deck))
-    if entry is None:
-        return None, ""
-    return entry[0], f" ({', '.join(entry[0])} only: FIGURES_ONLY in tools/regression.py)"
-
-
 def compare_files(ref, fresh, deck):
     """Compare a fresh result set with a reference; returns (ok, one-line verdict, report)."""
-    tol, default, kind = tolerances_for(deck)
+    with open(deck) as fh:
+        elastic = all(law == "ELASTIC" for law, _ in materials(fh.read()).values())
+    table, kind = (ELASTIC, "elastic") if elastic else (NONLINEAR, "nonlinear")
     quantities, only = figures_only(deck)
     try:
         a = compare.read_result_set(ref)
-        wanted = set(a.blocks) if fresh.endswith(".h5") else None
-        b = compare.read_result_set(fresh, wanted)
+        b = compare.read_result_set(fresh, set(a.blocks) if fresh.endswith(".h5") else None)
     except compare.InputError as exc:
         return False, f"cannot compare: {exc}", ""
-    rep = compare.compare(a, b, tol, default, quantities)
+    rep = compare.compare(a, b, {q: table.get(q, table["default"]) for q in compare.QUANTITIES},
+                          table["default"], quantities)
     text = io.StringIO()
     ok = compare.print_report(rep, a, b, 10, out=text)
     worst = rep["rows"][0] if rep["rows"] else None
     if ok:
-        ratio = f"{worst[0]:.1e}" if worst else "0"
-        verdict = (f"{rep['compared']} values within the {kind} tolerances "
-                   f"(worst {ratio} of its tolerance){only}")
+        verdict = (f"{rep['compared']} values within the {kind} tolerances (worst "
+                   f"{f'{worst[0]:.1e}' if worst else '0'} of its tolerance){only}")
     elif rep["compared"] == 0:
         verdict = "nothing in common to compare"
     elif rep["missing"] and not any(r[0] > 1 for r in rep["rows"]):
@@ -134,33 +76,32 @@ def compare_files(ref, fresh, deck):
                    f"{compare.location_text(q, loc)}, {compare.stage_text(a, stage)}")
     else:
         ratio, q, stage, loc, c, va, vb, _ = worst
-        nfail = sum(s["fail"] for s in rep["per_q"].values())
-        verdict = (f"{nfail} of {rep['compared']} values beyond the {kind} tolerances; "
-                   f"worst {q} {c} at {compare.location_text(q, loc)}, "
-                   f"{compare.stage_text(a, stage)}: reference {va:.9e}, fresh {vb:.9e} "
-                   f"({ratio:.1e} times the tolerance)")
+        verdict = (f"{sum(s['fail'] for s in rep['per_q'].values())} of {rep['compared']} values"
+                   f" beyond the {kind} tolerances; worst {q} {c} at "
+                   f"{compare.location_text(q, loc)}, {compare.stage_text(a, stage)}: reference "
+                   f"{va:.9e}, fresh {vb:.9e} ({ratio:.1e} times the tolerance)")
     return ok, verdict, text.getvalue()
+
+
+def figures_only(deck):
+    """The quantities compared for this deck (None: all) and a note for the verdict."""
+    entry = FIGURES_ONLY.get(batch.stem_of(deck))
+    return (None, "") if entry is None else \
+        (entry[0], f" ({', '.join(entry[0])} only: FIGURES_ONLY in tools/regression.py)")
 
 
 def reference_of(deck, refdir=REFERENCE_DIR):
     return os.path.join(refdir, batch.stem_of(deck) + ".csv.gz")
 
 
-def run_decks(decks, cfrd, workdir, progress=None):
-    os.makedirs(workdir, exist_ok=True)
-    return batch.run_batch(decks, cfrd, workdir, batch.default_jobs(), progress)
-
-
 def check_run(run, workdir, refdir):
     """PASS/FAIL lines of one finished deck: its reference, then the CSVs kept in outputs/."""
-    name = f"regression/{run.stem}"
-    ref = reference_of(run.deck, refdir)
+    name, ref = f"regression/{run.stem}", reference_of(run.deck, refdir)
     if not os.path.isfile(ref):
         return [(False, name, f"no reference {ref} (make references writes it)")]
     if not run.ok:
         return [(False, name, f"the run failed ({run.status}): {run.message}")]
-    ok, verdict, report = compare_files(ref, os.path.join(workdir, run.stem + ".h5"),
-                                        run.deck)
+    ok, verdict, report = compare_files(ref, os.path.join(workdir, run.stem + ".h5"), run.deck)
     if not ok:
         path = os.path.join(workdir, run.stem + "-compare.txt")
         with open(path, "w") as fh:
@@ -177,20 +118,15 @@ def check_run(run, workdir, refdir):
 
 
 def check(decks, cfrd, workdir, refdir):
-    results = {}
     stems = {batch.stem_of(d) for d in decks}
-    orphans = []
-    for ref in sorted(glob.glob(os.path.join(refdir, "*.csv.gz"))):
-        stem = os.path.basename(ref)[:-len(".csv.gz")]
-        if stem not in stems:
-            orphans.append((False, f"regression/{stem}",
-                            f"{ref} has no deck inputs/{stem}.dat: remove it or add the deck"))
-
-    # Each deck is compared as soon as it has run, while the larger ones still run.
-    def progress(done, total, run):
-        results[run.deck] = check_run(run, workdir, refdir)
-    run_decks(decks, cfrd, workdir, progress)
-    lines = orphans + [line for d in decks for line in results[d]]
+    lines = [(False, f"regression/{stem}", f"{ref} has no deck inputs/{stem}.dat: remove it "
+              "or add the deck") for ref in sorted(glob.glob(os.path.join(refdir, "*.csv.gz")))
+             for stem in [os.path.basename(ref)[:-len(".csv.gz")]] if stem not in stems]
+    results = {}       # each deck is compared as soon as it has run, while others still run
+    os.makedirs(workdir, exist_ok=True)
+    batch.run_batch(decks, cfrd, workdir, batch.default_jobs(), lambda done, total, run:
+                    results.__setitem__(run.deck, check_run(run, workdir, refdir)))
+    lines += [line for d in decks for line in results[d]]
     for ok, name, verdict in lines:
         print(f"{'PASS' if ok else 'FAIL'} {name}: {verdict}")
     return all(ok for ok, _, _ in lines)
@@ -198,9 +134,10 @@ def check(decks, cfrd, workdir, refdir):
 
 def refresh(decks, cfrd, workdir, force, refdir):
     os.makedirs(refdir, exist_ok=True)
+    os.makedirs(workdir, exist_ok=True)
     version = os.popen(f"'{cfrd}' --version").read().strip()
     changed = []
-    for run in run_decks(decks, cfrd, workdir):
+    for run in batch.run_batch(decks, cfrd, workdir, batch.default_jobs()):
         ref = reference_of(run.deck, refdir)
         if not run.ok:
             print(f"{run.deck}: the run failed ({run.status}): {run.message}; "
@@ -217,12 +154,11 @@ def refresh(decks, cfrd, workdir, force, refdir):
                 print(f"{run.deck}: unchanged ({verdict})")
                 continue
             print(f"{run.deck}: CHANGED: {verdict}")
-            print("".join("    " + l for l in report.splitlines(True)))
+            print("".join("    " + ln for ln in report.splitlines(True)))
         quantities, only = figures_only(run.deck)
-        n = compare.reduce_results(h5, ref, header=[
+        n = compare.reduce_results(h5, ref, quantities=quantities, header=[
             f"cfrd regression reference of {run.deck} ({version}), written by "
-            f"tools/regression.py --refresh{only}; layout: docs/results.md"],
-            quantities=quantities)
+            f"tools/regression.py --refresh{only}; layout: docs/results.md"])
         print(f"{run.deck}: wrote {ref} ({n} values)")
         for suffix in CSV_SUFFIXES + (".out",):
             kept = os.path.join("outputs", run.stem + suffix)
@@ -237,18 +173,17 @@ def refresh(decks, cfrd, workdir, force, refdir):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description="Regression suite: fresh runs against "
-                                     "the references in outputs/reference/.")
-    parser.add_argument("decks", nargs="*", help="decks (default: inputs/*.dat)")
-    parser.add_argument("--cfrd", default="bin/cfrd")
-    parser.add_argument("--workdir", default="build/regression")
-    parser.add_argument("--refresh", action="store_true",
-                        help="rewrite the references that changed (or are missing)")
-    parser.add_argument("--force", action="store_true",
-                        help="with --refresh: rewrite every reference")
-    parser.add_argument("--references", default=REFERENCE_DIR,
-                        help=f"folder of the references (default {REFERENCE_DIR})")
-    args = parser.parse_args(argv)
+    ap = argparse.ArgumentParser(description="Regression suite: fresh runs against the "
+                                 "references in outputs/reference/.")
+    ap.add_argument("decks", nargs="*", help="decks (default: inputs/*.dat)")
+    ap.add_argument("--cfrd", default="bin/cfrd")
+    ap.add_argument("--workdir", default="build/regression")
+    ap.add_argument("--refresh", action="store_true",
+                    help="rewrite the references that changed (or are missing)")
+    ap.add_argument("--force", action="store_true", help="with --refresh: rewrite every reference")
+    ap.add_argument("--references", default=REFERENCE_DIR,
+                    help=f"folder of the references (default {REFERENCE_DIR})")
+    args = ap.parse_args(argv)
     decks = args.decks or sorted(glob.glob("inputs/*.dat"))
     problem = batch.check_decks(decks)
     if problem:

@@ -134,20 +134,20 @@ module cfrd_card_schema
         field_t('GAMMA', 1, 10, real_field, lo=0.0_dp, expected='a real >= 0 (kN/m3)'), &
         field_t('K', 11, 10, real_field, required=.true., lo=small, expected='a real > 0'), &
         field_t('N', 21, 10, real_field, required=.true., lo=0.0_dp, hi=0.999_dp, &
-                expected='a real with 0 <= N < 1'), &
+                expected='a real with 0 <= N <= 0.999'), &
         field_t('RF', 31, 10, real_field, required=.true., lo=small, hi=1.0_dp, &
                 expected='a real with 0 < RF <= 1'), &
         field_t('KB', 41, 10, real_field, required=.true., lo=small, expected='a real > 0'), &
         field_t('M', 51, 10, real_field, required=.true., lo=-0.999_dp, hi=0.999_dp, &
-                expected='a real with -1 < M < 1'), &
+                expected='a real with -0.999 <= M <= 0.999'), &
         field_t('KUR', 61, 10, real_field, default_from=2, default_scale=2.0_dp, lo=small, &
                 expected='a real > 0 (blank = 2 K)')]
     !> EB card 3; the floor on sigma3 for the moduli, blank: 0.1 pa (docs/theory.md s. 8).
     type(field_t), parameter :: eb_strength_fields(4) = [ &
         field_t('PHI0', 1, 10, real_field, required=.true., lo=small, hi=89.0_dp, &
-                expected='an angle in degrees, 0 < PHI0 < 90'), &
+                expected='an angle in degrees, 0 < PHI0 <= 89'), &
         field_t('DPHI', 11, 10, real_field, lo=0.0_dp, hi=89.0_dp, &
-                expected='an angle in degrees >= 0'), &
+                expected='an angle in degrees, 0 <= DPHI <= 89'), &
         field_t('C', 21, 10, real_field, lo=0.0_dp, expected='a real >= 0 (kPa)'), &
         field_t('SIG3MIN', 31, 10, real_field, default_from=default_pa, &
                 default_scale=0.1_dp, lo=small, expected='a real > 0 (kPa, blank = 0.1 PA)')]
@@ -183,11 +183,11 @@ module cfrd_card_schema
                 expected='a real > 0 (kPa/m)'), &
         field_t('K1', 21, 10, real_field, required=.true., lo=small, expected='a real > 0'), &
         field_t('N1', 31, 10, real_field, required=.true., lo=0.0_dp, hi=0.999_dp, &
-                expected='a real with 0 <= N1 < 1'), &
+                expected='a real with 0 <= N1 <= 0.999'), &
         field_t('RF1', 41, 10, real_field, required=.true., lo=0.0_dp, hi=1.0_dp, &
                 expected='a real with 0 <= RF1 <= 1'), &
         field_t('PHI', 51, 10, real_field, required=.true., lo=small, hi=89.0_dp, &
-                expected='an angle in degrees, 0 < PHI < 90'), &
+                expected='an angle in degrees, 0 < PHI <= 89'), &
         field_t('SNMIN', 61, 10, real_field, default_from=default_pa, default_scale=0.1_dp, &
                 lo=small, expected='a real > 0 (kPa, blank = 0.1 PA)'), &
         field_t('CUTOFF', 71, 5, int_field, lo=0.0_dp, hi=1.0_dp, &

@@ -1,6 +1,9 @@
-"""Reading cfrd's HDF5 results (layout: docs/results.md)."""
+"""Reading cfrd's results: the HDF5 file (layout: docs/results.md) and its CSVs."""
+
+import csv
 
 import h5py
+import numpy as np
 
 
 def open_results(path):
@@ -41,3 +44,35 @@ def series(f, dataset, index=()):
 def text(value):
     """An HDF5 string attribute (bytes or str) as str."""
     return value.decode() if isinstance(value, bytes) else str(value)
+
+
+def scalar(value):
+    """An attribute stored as a number or a one-element array, as a float."""
+    return float(np.ravel(value)[0])
+
+
+def total(attrs, key):
+    """The sum of attribute `key` over several attribute sets (0 where one lacks it)."""
+    return sum(scalar(a.get(key, 0)) for a in attrs)
+
+
+def gauges(f):
+    """(names, 0-based nodes) of the gauges."""
+    return [text(n).strip() for n in f["gauges/names"][...]], f["gauges/nodes"][...] - 1
+
+
+def group_names(f):
+    return [text(g).strip() for g in f["mesh/group_names"][...]] if "mesh/group_names" in f \
+        else []
+
+
+def openings(path):
+    """{slab phase: (largest width, largest depth)} over the stages of DECK-openings.csv (its
+    '# cfrd run_id' comment line skipped)."""
+    out = {}
+    with open(path, newline="") as fh:
+        for row in csv.DictReader(line for line in fh if not line.startswith("#")):
+            w, d = out.get(row["group"].strip(), (-np.inf, -np.inf))
+            out[row["group"].strip()] = (max(w, float(row["width_m"])),
+                                         max(d, float(row["depth_m"])))
+    return out

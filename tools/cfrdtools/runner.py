@@ -1,10 +1,13 @@
-"""Running bin/cfrd: find the binary, write a deck, run it, time it."""
+"""Running bin/cfrd and the scripts of tools/: find the binary, write a deck, run it, time it."""
 
 import os
 import subprocess
+import sys
 import time
+from concurrent.futures import ThreadPoolExecutor
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+TOOLS = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(TOOLS)
 
 
 class CfrdFailed(RuntimeError):
@@ -54,7 +57,22 @@ def run_text(cfrd, deck, text, **kw):
 def run_many(cfrd, decks, jobs=1, **kw):
     """Run every deck, `jobs` at a time (threads: the work is in the child processes);
     returns the CompletedProcess of each, in order."""
-    from concurrent.futures import ThreadPoolExecutor
     kw.setdefault("check", False)
     with ThreadPoolExecutor(max(1, jobs)) as pool:
         return list(pool.map(lambda d: run(cfrd, d, **kw), decks))
+
+
+def tool(name, *args, check=False, env=None):
+    """Run the script tools/NAME with this Python; returns (exit status, stdout + stderr).
+    check=True raises RuntimeError on a non-zero exit."""
+    done = subprocess.run([sys.executable, os.path.join(TOOLS, name), *map(str, args)],
+                          capture_output=True, text=True, env=env)
+    if check and done.returncode:
+        raise RuntimeError(f"{name} exit {done.returncode}: {done.stderr.strip()[-300:]}")
+    return done.returncode, done.stdout + done.stderr
+
+
+def tianshengqiao(deck, *options):
+    """Write a Tianshengqiao-I deck with tools/tianshengqiao.py OPTIONS --deck DECK."""
+    tool("tianshengqiao.py", *options, "--deck", deck, check=True)
+    return deck
