@@ -1,21 +1,22 @@
-!> INTERFACE and SLAB: the lines of node pairs between the face slab and the cushion, whose
+!> INTERFACE, SLAB and PLINTH: the lines of node pairs between the face slab and the cushion, whose
 !> joints or thin layers are appended to the mesh, and the element groups of the face slab.
 !> The fields are read and checked against the card schema; here remain the checks against
 !> the mesh and materials, the generation of pairs and the geometry of the new elements.
 module cfrd_deck_interface
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, input_error
-    use cfrd_model, only: model_t, mesh_t, law_goodman, elem_quad4, elem_joint_gauss, &
-                          elem_joint_lobatto, interface_element_t, method_joint, method_thin
+    use cfrd_model, only: model_t, mesh_t, is_joint_law, elem_quad4, elem_joint_gauss, &
+                          elem_joint_lobatto, interface_element_t, method_joint, method_thin, &
+                          is_joint_kind
     use cfrd_model_check, only: layer_thickness
-    use cfrd_cards, only: field_error, card_error, upper, to_text
-    use cfrd_card_schema, only: interface_fields, slab_fields
+    use cfrd_cards, only: field_error, card_error, upper, to_text, field_t
+    use cfrd_card_schema, only: interface_fields, slab_fields, plinth_fields
     use cfrd_card_reader, only: card_values_t, read_card, raw_text, position, group_list
     use cfrd_deck_groups, only: group_cards_t
     implicit none
     private
 
-    public :: read_interface, read_slab
+    public :: read_interface, read_slab, read_plinth
 
     !> The methods in the order of the words of field TYPE.
     integer, parameter :: methods(2) = [method_joint, method_thin]
@@ -93,11 +94,11 @@ contains
                 call read_card(file, card, interface_fields, ctx, v, error, only=[8, 9, 10])
                 if (allocated(error)) return
                 card_method(i) = methods(v%int(8))
-                if ((model%materials(card_mat(i))%law == law_goodman) .neqv. &
+                if (is_joint_law(model%materials(card_mat(i))%law) .neqv. &
                     (card_method(i) == method_joint)) then
                     call field_error(error, file, card, interface_fields, 7, ctx, &
-                                     trim(merge('a GOODMAN material for a JOINT         ', &
-                                                'a solid material (not GOODMAN) for THIN', &
+                                     trim(merge('a GOODMAN or PJOINT material for a JOINT', &
+                                                'a solid material (not a joint) for THIN ', &
                                                 card_method(i) == method_joint)), &
                                      raw_text(card, interface_fields, 7))
                     return
@@ -301,31 +302,79 @@ contains
         type(group_cards_t), intent(in) :: group
         type(model_t), intent(inout) :: model
         type(error_t), allocatable, intent(out) :: error
+        call read_group_names(file, group, 'SLAB', slab_fields, model, model%slab_groups, error)
+    end subroutine read_slab
+
+    !> PLINTH: the element groups of the plinth, the concrete body on the rock that the
+    !> perimetric joint joins to the slab. Read after BOUNDARY: each of its solid elements
+    !> must lie on the base, with a side whose two nodes are held in x and y.
+    subroutine read_plinth(file, group, model, error)
+        character(len=*), intent(in) :: file
+        type(group_cards_t), intent(in) :: group
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        integer :: e, k, a, b
+        logical :: on_base
+        call read_group_names(file, group, 'PLINTH', plinth_fields, model, &
+                              model%plinth_groups, error)
+        if (allocated(error)) return
+        do e = 1, model%mesh%nelem
+            if (.not. any(model%plinth_groups == model%mesh%group(e))) cycle
+            if (model%mesh%group(e) == 0) cycle
+            on_base = .false.
+            do k = 1, 4
+                a = model%mesh%conn(k, e)
+                b = model%mesh%conn(mod(k, 4) + 1, e)
+                if (a == b) cycle
+                on_base = on_base .or. (all(model%fixed(:, a)) .and. all(model%fixed(:, b)))
+            end do
+            if (is_joint_kind(model%mesh%kind(e))) on_base = .false.
+            if (.not. on_base) then
+                k = findloc(model%plinth_groups, model%mesh%group(e), dim=1)
+                call field_error(error, file, group%cards(k), plinth_fields, 1, 'PLINTH', &
+                                 'a group whose every element lies on the base (element '// &
+                                 to_text(e)//' has no side whose two nodes BOUNDARY '// &
+                                 'holds in x and y)', trim(model%mesh%group_name( &
+                                 model%mesh%group(e))))
+                return
+            end if
+        end do
+    end subroutine read_plinth
+
+    !> The cards of a group that each name an element group (SLAB, PLINTH): `groups`, the
+    !> groups' indices in the order of the cards.
+    subroutine read_group_names(file, group, what, fields, model, groups, error)
+        character(len=*), intent(in) :: file, what
+        type(group_cards_t), intent(in) :: group
+        type(field_t), intent(in) :: fields(:)
+        type(model_t), intent(in) :: model
+        integer, allocatable, intent(out) :: groups(:)
+        type(error_t), allocatable, intent(out) :: error
         character(len=:), allocatable :: name
         integer :: i, g
-        allocate (model%slab_groups(0))
+        allocate (groups(0))
         if (group%present .and. group%n == 0) then
-            call fatal_error(error, file//':'//to_text(group%header_line)//': SLAB has no '// &
-                             'group cards', input_error)
+            call fatal_error(error, file//':'//to_text(group%header_line)//': '//what// &
+                             ' has no group cards', input_error)
             return
         end if
         do i = 1, group%n
             associate (card => group%cards(i))
-                name = raw_text(card, slab_fields, 1)
+                name = raw_text(card, fields, 1)
                 g = position(model%mesh%group_name, upper(name))
                 if (g == 0) then
-                    call field_error(error, file, card, slab_fields, 1, 'SLAB', &
+                    call field_error(error, file, card, fields, 1, what, &
                                      'an element group ('//group_list(model%mesh%group_name)// &
                                      ')', name)
                     return
                 end if
-                if (any(model%slab_groups == g)) then
-                    call field_error(error, file, card, slab_fields, 1, 'SLAB', &
+                if (any(groups == g)) then
+                    call field_error(error, file, card, fields, 1, what, &
                                      'a group not listed before', name)
                     return
                 end if
-                model%slab_groups = [model%slab_groups, g]
+                groups = [groups, g]
             end associate
         end do
-    end subroutine read_slab
+    end subroutine read_group_names
 end module cfrd_deck_interface

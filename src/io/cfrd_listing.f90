@@ -16,6 +16,7 @@ module cfrd_listing
     use cfrd_interface_io, only: write_opening_history, write_interface_tables, &
                                  write_opening_summary
     use cfrd_effects, only: effects_text
+    use cfrd_pjoint_io, only: write_pjoint_table
     use cfrd_run_identity, only: run_identity_t
     implicit none
     private
@@ -51,6 +52,7 @@ contains
         call write_stage_table(unit, model, summaries)
         call write_gauge_tables(unit, model, summaries)
         call write_opening_history(unit, model, summaries)
+        call write_pjoint_table(unit, model, summaries)
         ! The full tables of the last stage; every stage's state is in the HDF5 file.
         call write_stage(unit, model, last, size(summaries))
         call write_solver(unit, model, summaries)
