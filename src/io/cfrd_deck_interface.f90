@@ -34,7 +34,7 @@ contains
         type(error_t), allocatable, intent(out) :: error
         integer, allocatable :: pair_line(:), pair_bottom(:), pair_top(:), pair_card(:), &
                                 card_mat(:), card_kind(:), card_method(:), card_group(:), &
-                                lines(:), new_conn(:, :)
+                                lines(:), new_conn(:, :), new_cards(:, :)
         character(len=:), allocatable :: ctx, text
         type(card_values_t) :: v
         integer :: i, g, line, nb, nt, ngen, incb, inct, k, np, a, b, nnew, e, nelem0, c
@@ -144,7 +144,7 @@ contains
         end do
         ! Elements between consecutive pairs of each line, lines in order of appearance.
         nelem0 = model%mesh%nelem
-        allocate (new_conn(4, 0))
+        allocate (new_conn(4, 0), new_cards(2, 0))
         do k = 1, size(lines)
             np = 0
             a = 0
@@ -155,6 +155,8 @@ contains
                     c = pair_card(a)
                     new_conn = reshape([new_conn, pair_bottom(a), pair_bottom(i), pair_top(i), &
                                         pair_top(a)], [4, size(new_conn, 2) + 1])
+                    new_cards = reshape([new_cards, pair_card(a), pair_card(i)], &
+                                        [2, size(new_cards, 2) + 1])
                     model%interfaces = [model%interfaces, interface_element_t( &
                                         element=nelem0 + size(new_conn, 2), line=lines(k), &
                                         method=card_method(c))]
@@ -193,15 +195,25 @@ contains
                 t = t/length
                 nrm = [-t(2), t(1)]
                 if (model%interfaces(k)%method == method_joint) then
-                    gap = max(norm2(x(:, conn(4)) - x(:, conn(1))), &
-                              norm2(x(:, conn(3)) - x(:, conn(2))))
-                    if (gap > 1.0e-6_dp*length) then
-                        call fatal_error(error, file//':'//to_text(element_line(e))//': '// &
-                                         ctx//': the nodes of a pair are '// &
-                                         trim(real_text_of(gap))//' m apart; a JOINT has '// &
-                                         'zero thickness (use THIN for a layer)', input_error)
-                        return
-                    end if
+                    ! A pair whose nodes do not coincide: the error of its card's NT field.
+                    do c = 1, 2
+                        a = merge(1, 2, c == 1)
+                        b = merge(4, 3, c == 1)
+                        gap = norm2(x(:, conn(b)) - x(:, conn(a)))
+                        if (gap > 1.0e-6_dp*length) then
+                            call field_error(error, file, group%cards(new_cards(c, k)), &
+                                             interface_fields, 3, 'INTERFACE line '// &
+                                             to_text(model%interfaces(k)%line), &
+                                             'a top node at its bottom node (pair '// &
+                                             to_text(conn(a))//'/'//to_text(conn(b))// &
+                                             ': the nodes are '//trim(real_text_of(gap))// &
+                                             ' m apart; a JOINT has zero thickness, use '// &
+                                             'THIN for a layer)', &
+                                             raw_text(group%cards(new_cards(c, k)), &
+                                                      interface_fields, 3))
+                            return
+                        end if
+                    end do
                     ! The top nodes' solid elements must lie on the left (along n).
                     centre = solid_centre(model%mesh, conn(4), nelem0)
                     if (norm2(centre) < huge(1.0_dp) .and. &
