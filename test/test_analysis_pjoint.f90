@@ -42,7 +42,7 @@ contains
         mat%ks_joint = ks
     end function pjoint_material
 
-    !> The law's closed form (docs/theory.md section 12.5): sigma_n = knc du_n closed,
+    !> The law's closed form (docs/theory.md section 12): sigma_n = knc du_n closed,
     !> knt du_n open, tau = ks du_s; its tangent diag(knc or knt, ks).
     subroutine test_law(error)
         type(error_t), allocatable, intent(out) :: error

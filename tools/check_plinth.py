@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Checks of the plinth and the perimetric joint (issue 22; docs/theory.md section 12.5),
+"""Checks of the plinth and the perimetric joint (issue 22; docs/theory.md section 12),
 against statics closed forms computed here without cfrd code:
 
   blocks-compression  a slab block (1 m, 24 kN/m3, nu = 0) resting on a plinth block fixed

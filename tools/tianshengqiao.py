@@ -823,7 +823,7 @@ def main(argv=None):
     ap.add_argument("--plinth", action="store_true",
                     help="a concrete plinth on the rock at the slab's toe and a perimetric"
                          " joint (PJOINT) between it and the slab's end ([plinth] of the"
-                         " geometry file; docs/tianshengqiao.md s. 11)")
+                         " geometry file; docs/tianshengqiao.md s. 10)")
     ap.add_argument("--slab-element", choices=["Q4", "Q4S"], default=None,
                     help="element type of the slab (default: Q4S for contact, Q4 else)")
     ap.add_argument("--rule", default="LOBATTO", choices=["LOBATTO", "GAUSS"],

@@ -1,4 +1,4 @@
-!> The perimetric joint's displacements per stage (docs/theory.md section 12.5): for every
+!> The perimetric joint's displacements per stage (docs/theory.md section 12): for every
 !> INTERFACE line of PJOINT material, the relative displacements and tractions of its
 !> stations averaged over the line's length. Pure reading of the stage's interface
 !> stations; nothing here feeds back into the analysis.

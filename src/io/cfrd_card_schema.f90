@@ -15,7 +15,8 @@ module cfrd_card_schema
     public :: card_schema_t, card_schemas
     public :: control_fields, effects_fields, node_fields, element_fields, material_fields, &
               elastic_fields, eb_fields, eb_strength_fields, creep_fields, wetting_fields, &
-              goodman_fields, pjoint_fields, plinth_fields, interface_fields, slab_fields, stage_fields, load_stage_fields, &
+              goodman_fields, pjoint_fields, plinth_fields, interface_fields, slab_fields, &
+              stage_fields, load_stage_fields, &
               water_stage_fields, wet_stage_fields, surface_fields, pair_fields, reservoir_fields, &
               gauge_fields, boundary_fields, gravity_fields, force_fields, pressure_fields
 
@@ -195,7 +196,7 @@ module cfrd_card_schema
                 expected='0 (tension carried with KNT) or 1 (tension cut-off)', &
                 found=found_value)]
 
-    !> PJOINT card 2: the perimetric joint's stiffnesses (docs/theory.md section 12.5).
+    !> PJOINT card 2: the perimetric joint's stiffnesses (docs/theory.md section 12).
     type(field_t), parameter :: pjoint_fields(3) = [ &
         field_t('KNC', 1, 10, real_field, required=.true., lo=small, &
                 expected='a real > 0 (kPa/m)'), &

@@ -1,8 +1,9 @@
-!> What the listing, the terminal summary and the gauge and opening CSV files need of a stage
-!> once its full results have been streamed to the HDF5 file: its scalars, the extreme
-!> displacements since placement with their nodes, the gauges' displacements, the slab
-!> openings and the perimetric joints. A few hundred bytes a stage, so a run keeps one per stage and the full
-!> stage_result_t of the last stage only (docs/results.md, "Streaming").
+!> What the listing, the terminal summary and the gauge, opening and perimetric-joint CSV
+!> files need of a stage once its full results have been streamed to the HDF5 file: its
+!> scalars, the extreme displacements since placement with their nodes, the gauges'
+!> displacements, the slab openings and the perimetric joints. A few hundred bytes a stage,
+!> so a run keeps one per stage and the full stage_result_t of the last stage only
+!> (docs/results.md, "Streaming").
 module cfrd_stage_summary
     use cfrd_kinds, only: dp
     use cfrd_model, only: model_t

@@ -1,4 +1,4 @@
-!> The perimetric-joint law (PJOINT; docs/theory.md section 12.5) of the zero-thickness
+!> The perimetric-joint law (PJOINT; docs/theory.md section 12) of the zero-thickness
 !> joint between the face slab and the plinth, as pure functions. Tractions (sigma_n, tau)
 !> and relative displacements (du_n, du_s) of the joint's frame, tension and opening
 !> positive, as for the Goodman law:

@@ -113,12 +113,12 @@ module cfrd_results
     end type slab_result_t
 
     !> The perimetric joints (INTERFACE lines of PJOINT material; docs/theory.md section
-    !> 12.5), one entry per line: the relative displacements of the slab side over the
-    !> plinth side averaged over the line's length, in the joint's frame: opening along n
-    !> (the slab moving away from the plinth), settlement along t (the slab moving across
-    !> the joint, normal to the face, when the line runs from the face inwards), and the
-    !> shear along the joint, out of the section's plane (0 in plane strain); with the
-    !> mean tractions. Since the joint's placement.
+    !> 12), one entry per line: the relative displacements of the slab
+    !> side over the plinth side averaged over the line's length, in the joint's frame:
+    !> opening along n (the slab moving away from the plinth), settlement along t (the
+    !> slab moving across the joint, normal to the face, when the line runs from the face
+    !> inwards), and the shear along the joint, out of the section's plane (0 in plane
+    !> strain); with the mean tractions. Since the joint's placement.
     type :: pjoint_result_t
         integer, allocatable :: line(:)                  !! (npjoint) interface line number
         logical, allocatable :: active(:)                !! (npjoint) every element placed

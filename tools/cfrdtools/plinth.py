@@ -1,5 +1,5 @@
 """The plinth and the perimetric joint of the Tianshengqiao-I decks (tools/tianshengqiao.py
---plinth; issue 22, docs/tianshengqiao.md section 11).
+--plinth; issue 22, docs/tianshengqiao.md section 10).
 
 The slab's end at the toe is cut normal to the face (its toe ring runs from the inner toe
 node up the face normal) and rests on a concrete plinth through a PJOINT joint. The plinth
