@@ -9,6 +9,8 @@ against statics closed forms computed here without cfrd code:
                       the 6 kPa left over, the joint opens by 6 / KNT (Newton to 1e-10; 1e-8);
   results             DECK-pjoint.csv, the HDF5 group /stages/stage_0001/pjoint and the
                       listing's PERIMETRIC JOINT table hold the same numbers;
+  figure              tools/figures.py --data draws pjoint.png with the HDF5 group's opening
+                      and settlement (mm) at each stage, exactly;
   generator           tools/tianshengqiao.py --plinth writes, for every interface method, an
                       x1 deck that cfrd reads and validates (cfrd --check): the joint's pairs
                       coincide, the plinth lies on the base, the stiffnesses are positive.
@@ -23,7 +25,7 @@ import sys
 from cfrdtools.checks import Checks, fresh, parser
 from cfrdtools.decks import fmt_alpha as fa, fmt_int as fi, fmt_real as fr
 from cfrdtools.results import open_results
-from cfrdtools.runner import run, run_text, tianshengqiao
+from cfrdtools.runner import run, run_text, tianshengqiao, tool
 
 KNC, KNT, KS = 1.0e7, 1.0e3, 1.0e3          # kPa/m, the deck's PJOINT card
 GAMMA, HS, PULL = 24.0, 1.0, 30.0            # kN/m3, m (slab block), kPa (tension case)
@@ -91,6 +93,21 @@ def blocks(cfrd, work):
                   "the CSV row, the HDF5 group pjoint and the listing's table agree")
 
 
+def figure(work):
+    """pjoint.png's curves (figures.py --data) against the HDF5 group of the tension case."""
+    h5 = os.path.join(work, "blocks-tension.h5")
+    out = os.path.join(work, "figures")
+    status, text = tool("figures.py", h5, "--out", out, "--data", "--reference", "none")
+    data = rows(os.path.join(out, "data", "pjoint.csv"))
+    with open_results(h5) as f:
+        g = f["stages/stage_0001/pjoint"]
+        want = {"perimetric joint: opening": 1e3 * float(g["opening"][0]),
+                "perimetric joint: settlement": 1e3 * float(g["settlement"][0])}
+    got = {r["panel"]: (float(r["x"]), float(r["y"])) for r in data}
+    check("figure", status == 0 and all(got.get(k) == (1.0, v) for k, v in want.items()),
+          f"pjoint.png: {got} against the HDF5 group {want} (exact)")
+
+
 def generator(cfrd, work):
     for method in ("bonded", "joint", "thin", "contact"):
         path = tianshengqiao(os.path.join(work, f"tsq-{method}.dat"), "--refine", "1",
@@ -107,6 +124,7 @@ def main():
     args = parser(__doc__, cfrd=True, workdir="build/plinth").parse_args()
     work = fresh(args.workdir)
     check.guard("blocks", blocks, args.cfrd, work)
+    check.guard("figure", figure, work)
     check.guard("generator", generator, args.cfrd, work)
     sys.exit(check.status)
 
