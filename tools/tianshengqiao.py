@@ -757,7 +757,8 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
     return info
 
 
-def generate(r, geo=None, interface="bonded", face=None, face_band=6, plinth=False):
+def generate(r, geo=None, interface="bonded", face=None, face_band=6, plinth=False,
+             solver_note=None):
     """(geometry, numbered mesh, stages, notes) of the xr mesh, or with face the face-
     resolved one (face_split: rows and slab in `face` divisions, the body's columns at r, the
     first face_band in `face`)."""
@@ -783,6 +784,8 @@ def generate(r, geo=None, interface="bonded", face=None, face_band=6, plinth=Fal
                          " slab's concrete (material 6); the slab's end cut normal to the face"
                          f" on it through the PJOINT joint of INTERFACE line {pl.PJOINT_LINE};"
                          " no water on the plinth [choice]"]
+        if solver_note:
+            notes.append(solver_note)
     if interface == "thin":
         # The layer is one element thick at every refinement: the INTERFACE cards make its
         # quads from the cushion and slab node pairs, so the refined layer goes.
@@ -863,8 +866,11 @@ def main(argv=None):
                  args.knee)]
     for r, path, interface, knee in jobs:
         r, geo = base.at_knee(interface) if knee else (r, base)
-        geo, num, stages, notes = generate(r, geo, interface, args.face, args.face_band,
-                                           args.plinth)
+        geo, num, stages, notes = generate(
+            r, geo, interface, args.face, args.face_band, args.plinth,
+            "midpoint method: out of balance once the perimetric joint opens (relative residual"
+            " up to 7 in the last water stage); use --solver newton (docs/tianshengqiao.md"
+            " s. 10)" if args.solver == "midpoint" else None)
         if path is not None:
             info = write_deck(geo, r, num, stages, notes, path, args.solver, interface,
                               args.rule, args.slab_element,
