@@ -8,7 +8,7 @@ module cfrd_listing
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, io_error
     use cfrd_version, only: cfrd_version_string
-    use cfrd_model, only: model_t, law_name, dry_level, law_goodman, is_joint_kind, &
+    use cfrd_model, only: model_t, law_name, dry_level, law_goodman, law_pjoint, is_joint_kind, &
                           scheme_name, search_name
     use cfrd_results, only: stage_result_t
     use cfrd_stage_summary, only: stage_summary_t
@@ -128,6 +128,9 @@ contains
                     mat%kn_tension, ' kPa/m, k1', mat%k1, ', n1', mat%n1, ', Rf1', mat%rf1, &
                     ', phi', mat%phi, ' deg, sigma_n floor', mat%sigma_n_floor, ' kPa, tension', &
                     trim(merge(' cut off        ', ' carried with kn', mat%tension_cutoff))
+                if (mat%law == law_pjoint) write (unit, '(8x,a,3es11.3,a)') &
+                    'kn compression / tension (waterstops), ks', mat%kn_compression, &
+                    mat%kn_tension, mat%ks_joint, ' kPa/m'
             end associate
         end do
         if (allocated(model%contact_pairs)) then
