@@ -634,7 +634,10 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
             "joint": f"Goodman joints ({rule.lower()})", "contact": "slab in contact"}[interface]
     place = "Tianshengqiao-I 0+630" if plinth else "Tianshengqiao-I section 0+630"
     what += ", plinth" if plinth else ""
-    lines = [f"TITLE     {place}, {mesh_label or f'x{r} mesh'}, {what}",
+    title = f"TITLE     {place}, {mesh_label or f'x{r} mesh'}, {what}"
+    if len(title) > 80:         # --plinth with --face: the joints' rule is in the deck
+        title = re.sub(r" \((lobatto|gauss)\)", "", title)
+    lines = [title,
              "* Written by tools/tianshengqiao.py from inputs/tianshengqiao-i.toml; do not edit:",
              "* edit the geometry file and rerun `python3 tools/tianshengqiao.py --all`.",
              "* Sources: [paper] Qian et al. 2013; [lit] published values for this dam, not in",
