@@ -181,7 +181,8 @@ tool_checks "creep" python3 tools/check_creep.py --cfrd "$cfrd" --workdir "$work
 tool_checks "tianshengqiao" python3 tools/check_tianshengqiao.py --run "$cfrd" \
     --workdir "$work/tianshengqiao"
 # The XDMF file read back through an independent reader (meshio) against the HDF5 datasets.
-tool_checks "xdmf" python3 tools/check_xdmf.py --run "$cfrd" --workdir "$work/xdmf"
+tool_checks "xdmf" python3 tools/check_results_format.py --xdmf --cfrd "$cfrd" \
+    --workdir "$work/xdmf"
 # How results are stored (issue 21): shuffle + deflate lossless, --float32 exactly rounded,
 # its XDMF file read back by meshio, --compress usage errors (tools/check_results_format.py).
 tool_checks "results format" python3 tools/check_results_format.py --cfrd "$cfrd" \
