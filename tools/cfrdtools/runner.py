@@ -1,6 +1,8 @@
-"""Running bin/cfrd and the scripts of tools/: find the binary, write a deck, run it, time it."""
+"""Running bin/cfrd and the scripts of tools/: find the binary, write a deck, run it, time it
+(the fastest of several runs), and the machine it ran on."""
 
 import os
+import platform
 import subprocess
 import sys
 import time
@@ -46,6 +48,39 @@ def run(cfrd, deck, *args, check=True, quiet=True, limit=300):
     if check and done.returncode != 0:
         raise CfrdFailed(f"cfrd failed on {deck}: {done.stderr.strip()[:limit]}")
     return done
+
+
+def best_of(cfrd, deck, repeat, longer=float("inf"), keep=lambda done: None):
+    """Run cfrd on deck up to `repeat` times; returns (the fastest run, keep(run) called as
+    soon as that run ended). A failed run is returned at once; after a run longer than
+    `longer` seconds there is no further one."""
+    best = None
+    for _ in range(repeat):
+        done = run(cfrd, deck, check=False)
+        if done.returncode != 0:
+            return done, keep(done)
+        if best is None or done.wall < best[0].wall:
+            best = done, keep(done)
+        if done.wall > longer:
+            break
+    return best
+
+
+def machine():
+    """CPU model, logical cores, memory: one line for a table's caption."""
+    def first(path, key, value):
+        try:
+            with open(path) as f:
+                return next((value(line) for line in f if line.lower().startswith(key)), None)
+        except OSError:
+            return None
+    model = first("/proc/cpuinfo", "model name", lambda ln: ln.split(":", 1)[1].strip()) \
+        or platform.processor() or "unknown CPU"
+    mem = first("/proc/meminfo", "memtotal:", lambda ln: f"{int(ln.split()[1]) / 1024 ** 2:.1f}"
+                                                         " GiB") or "unknown"
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    return f"{model}, {cores} cores available, {mem} memory, {platform.system()} " \
+           f"{platform.release()}, Python {platform.python_version()}"
 
 
 def run_text(cfrd, deck, text, **kw):
