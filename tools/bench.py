@@ -41,6 +41,7 @@ import ccx_peer as peer
 import embankment as emb
 from accuracy_cost import richardson
 from cfrdtools import ccx, results, runner, tables
+from cfrdtools.decks import EFFECTS, with_effects
 
 IIIB = (2100 * 9.81 / 1000, 564.0, 0.35, 0.85, 204.0, 0.18, 1128.0, 51.0, 13.0)
 MID_ROW = 709.3333333
@@ -322,14 +323,13 @@ def bench_interfaces(cfrd, refinements, workdir, repeat, interfaces=("bonded", "
 # (f) Only the effects a deck asks for: the EFFECTS card (docs/cards.md), each effect switched
 # on alone over a base with all of them off. UNLOAD acts only on the nonlinear law, so its row
 # switches both on.
-EFFECT_FIELDS = ("ROCKFILL", "UNLOAD", "WATER", "INTERFACE", "FRICTION", "SLIP", "PHASES")
 EFFECT_OFF = dict(ROCKFILL="LINEAR", UNLOAD="OFF", WATER="OFF", INTERFACE="BONDED",
                   FRICTION="OFF", SLIP="SMALL", PHASES="OFF")
 EFFECT_ROWS = (("all off", ()), ("+ nonlinear rockfill", ("ROCKFILL",)),
                ("+ unload-reload", ("ROCKFILL", "UNLOAD")), ("+ water", ("WATER",)),
                ("+ joints", ("INTERFACE",)), ("+ friction", ("FRICTION",)),
                ("+ large slip", ("SLIP",)), ("+ slab phases", ("PHASES",)),
-               ("all on (the deck)", EFFECT_FIELDS))
+               ("all on (the deck)", EFFECTS))
 
 
 def bench_effects(cfrd, refinements, workdir, repeat):
@@ -341,18 +341,13 @@ def bench_effects(cfrd, refinements, workdir, repeat):
     for r in refinements:
         for interface in ("joint", "contact"):
             base = os.path.join(workdir, f"effects-x{r}-{interface}.dat")
-            lines = open(runner.tianshengqiao(base, "--refine", r, "--interface", interface)
-                         ).read().split("\n")
-            k = lines.index("CONTROL") + 1
+            text = open(runner.tianshengqiao(base, "--refine", r, "--interface", interface)).read()
             for label, on in EFFECT_ROWS:
-                if any(e not in applies[interface] for e in on) and on != EFFECT_FIELDS:
+                if any(e not in applies[interface] for e in on) and on != EFFECTS:
                     continue
-                card = "EFFECTS   " + "".join(
-                    f"{'' if e in on or e not in applies[interface] else EFFECT_OFF[e]:<10s}"
-                    for e in EFFECT_FIELDS)
                 deck = runner.write_deck(os.path.join(
-                    workdir, f"effects-x{r}-{interface}-{len(cells)}.dat"),
-                    "\n".join(lines[:k] + [card] + lines[k:]))
+                    workdir, f"effects-x{r}-{interface}-{len(cells)}.dat"), with_effects(
+                    text, **{e: EFFECT_OFF[e] for e in applies[interface] if e not in on}))
                 try:         # the figures of each run, so that they belong to the run reported
                     (wall, _, fig), rss = repeat_run(lambda: peer.run_cfrd(cfrd, deck, workdir)[:2]
                                                      + (figures(deck[:-4] + ".h5"),), repeat)

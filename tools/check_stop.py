@@ -21,13 +21,13 @@ import shutil
 import signal
 import subprocess
 import sys
-import time
 
 import h5py
 import numpy as np
 
 from cfrdtools.checks import Checks, fresh, parser
 from cfrdtools.results import text
+from cfrdtools.runner import signal_when
 
 check = Checks("stop")
 
@@ -37,23 +37,6 @@ def digests(folder, stem):
     return {os.path.basename(p): hashlib.sha256(open(p, "rb").read()).hexdigest()
             for p in sorted(glob.glob(os.path.join(folder, stem + "*")))
             if ".incomplete" not in p and not p.endswith((".part", ".log"))}
-
-
-def stop_after_stage(cmd, log, signum, stage=2, timeout=300.0):
-    """Start `cmd`, send `signum` once its progress line for `stage` is in `log`; return
-    (exit status, log text, whether the signal was sent before the run ended)."""
-    with open(log, "w") as fh:
-        proc = subprocess.Popen(cmd, stdout=fh, stderr=subprocess.STDOUT)
-    sent, end = False, time.monotonic() + timeout
-    while not sent and time.monotonic() < end and proc.poll() is None:
-        sent = f"stage {stage}/" in open(log).read()
-        if sent:
-            proc.send_signal(signum)
-        else:
-            time.sleep(0.01)
-    if not sent and proc.poll() is None:
-        proc.kill()
-    return proc.wait(), open(log).read(), sent
 
 
 def compare_stages(incomplete, complete):
@@ -139,8 +122,9 @@ def main():
     for signum, decks, expected in ((signal.SIGTERM, [args.deck], 143),
                                     (signal.SIGINT, [args.deck, second], 130)):
         name = signum.name.lower()
-        status, log, sent = stop_after_stage([args.cfrd, "--out", folder, *decks], os.path.join(
-            args.workdir, f"{name}.log"), signum)
+        log = os.path.join(args.workdir, f"{name}.log")    # sent once stage 2 is written
+        status, log, sent = signal_when([args.cfrd, "--out", folder, *decks], log, "stage 2/",
+                                        signum, log)
         check_stopped(name, status, expected, log, sent, folder, stem, reference, before,
                       signum.name)
     written = glob.glob(os.path.join(folder, "example*"))

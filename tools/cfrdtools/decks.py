@@ -6,6 +6,7 @@ import math
 REAL_RTOL = 1.0e-7      # relative accuracy a fixed F10 field must keep
 GROUPS = ("TITLE", "CONTROL", "NODES", "ELEMENTS", "MATERIALS", "BOUNDARY", "LOADS",
           "STAGES", "RESERVOIR", "GAUGES", "INTERFACE", "SLAB", "CONTACT", "END", "STOP")
+EFFECTS = ("ROCKFILL", "UNLOAD", "WATER", "INTERFACE", "FRICTION", "SLIP", "PHASES")
 
 
 class FieldOverflow(ValueError):
@@ -118,6 +119,15 @@ def free(*values):
     free(1, None, 0.5) is '&1, , 0.5'."""
     return "&" + ", ".join("" if v is None else repr(v) if isinstance(v, float) else str(v)
                            for v in values)
+
+
+def with_effects(text, **switch):
+    """The deck text with an EFFECTS card (A10 fields after the keyword, blank = the default;
+    switch: field -> value) after its CONTROL header (the group takes it anywhere)."""
+    lines = text.split("\n")
+    k = next(i for i, line in enumerate(lines) if line.rstrip() == "CONTROL")
+    card = "EFFECTS   " + "".join(f"{switch.get(f, ''):<10s}" for f in EFFECTS)
+    return "\n".join(lines[:k + 1] + [card] + lines[k + 1:])
 
 
 def groups(text):

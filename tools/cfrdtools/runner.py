@@ -97,6 +97,24 @@ def run_many(cfrd, decks, jobs=1, **kw):
         return list(pool.map(lambda d: run(cfrd, d, **kw), decks))
 
 
+def signal_when(cmd, watch, text, signum, output, timeout=300.0):
+    """Start cmd, its stdout and stderr into the file `output`; send it signum once the file
+    `watch` holds `text` (killed if that has not happened within timeout s). Returns (exit
+    status, the output, whether the signal was sent while cmd ran)."""
+    with open(output, "w") as fh:
+        proc = subprocess.Popen(cmd, stdout=fh, stderr=subprocess.STDOUT)
+    sent, end = False, time.monotonic() + timeout
+    while not sent and time.monotonic() < end and proc.poll() is None:
+        sent = os.path.exists(watch) and text in open(watch).read()
+        if sent:
+            proc.send_signal(signum)
+        else:
+            time.sleep(0.01)
+    if not sent and proc.poll() is None:
+        proc.kill()
+    return proc.wait(), open(output).read(), sent
+
+
 def tool(name, *args, check=False, env=None):
     """Run the script tools/NAME with this Python; returns (exit status, stdout + stderr).
     check=True raises RuntimeError on a non-zero exit."""
