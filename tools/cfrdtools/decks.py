@@ -6,7 +6,6 @@ import math
 REAL_RTOL = 1.0e-7      # relative accuracy a fixed F10 field must keep
 GROUPS = ("TITLE", "CONTROL", "NODES", "ELEMENTS", "MATERIALS", "BOUNDARY", "LOADS",
           "STAGES", "RESERVOIR", "GAUGES", "INTERFACE", "SLAB", "CONTACT", "END", "STOP")
-EFFECTS = ("ROCKFILL", "UNLOAD", "WATER", "INTERFACE", "FRICTION", "SLIP", "PHASES")
 
 
 class FieldOverflow(ValueError):
@@ -119,6 +118,9 @@ def free(*values):
     free(1, None, 0.5) is '&1, , 0.5'."""
     return "&" + ", ".join("" if v is None else repr(v) if isinstance(v, float) else str(v)
                            for v in values)
+
+
+EFFECTS = ("ROCKFILL", "UNLOAD", "WATER", "INTERFACE", "FRICTION", "SLIP", "PHASES")
 
 
 def with_effects(text, **switch):
