@@ -39,6 +39,13 @@ def digests(folder, stem):
             if ".incomplete" not in p and not p.endswith((".part", ".log"))}
 
 
+def stop_after_stage(cmd, log, signum, stage=2, timeout=300.0):
+    """Start `cmd`, its output into `log`, send `signum` once its progress line for `stage`
+    is there; return (exit status, log text, whether the signal was sent before the run
+    ended)."""
+    return signal_when(cmd, log, f"stage {stage}/", signum, log, timeout)
+
+
 def compare_stages(incomplete, complete):
     """(stage names, file attributes, differences) between the stages of `incomplete` and
     the same stages of `complete`: every dataset exactly, every attribute but timings."""
@@ -122,9 +129,8 @@ def main():
     for signum, decks, expected in ((signal.SIGTERM, [args.deck], 143),
                                     (signal.SIGINT, [args.deck, second], 130)):
         name = signum.name.lower()
-        log = os.path.join(args.workdir, f"{name}.log")    # sent once stage 2 is written
-        status, log, sent = signal_when([args.cfrd, "--out", folder, *decks], log, "stage 2/",
-                                        signum, log)
+        status, log, sent = stop_after_stage([args.cfrd, "--out", folder, *decks], os.path.join(
+            args.workdir, f"{name}.log"), signum)
         check_stopped(name, status, expected, log, sent, folder, stem, reference, before,
                       signum.name)
     written = glob.glob(os.path.join(folder, "example*"))
