@@ -188,7 +188,6 @@ def check_column(check, workdir, cfrd=None, n=10):
             check("cfrd-column", False, str(exc))
 
 
-
 # --- the thin layer
 
 NX, NY, W, HB, D = 8, 2, 8.0, 2.0, 0.1   # quads, width, block height, layer (m)
@@ -233,7 +232,6 @@ def thin_ccx(path, xy, conn, layer, loaded):
     runner.write_deck(path, out + ["*NODE PRINT, NSET=NALL", "U", "*END STEP"])
 
 
-
 def check_thin(check, cfrd, workdir):
     xy, conn, pairs, layer, loaded = thin_mesh()
     deck = os.path.join(workdir, "thin.dat")
@@ -253,6 +251,7 @@ def check_thin(check, cfrd, workdir):
 
 
 # --- layer-by-layer construction
+
 
 def ccx_submesh_deck(mesh, layer_of_elem, k, path):
     """The mesh of layers 1..k, base fixed, gravity on layer k only (CPE4, thickness 1)."""
@@ -280,7 +279,6 @@ def ccx_submesh_deck(mesh, layer_of_elem, k, path):
             "*END STEP"]
     runner.write_deck(path, out)
     return nodes
-
 
 
 def check_staged(check, cfrd, workdir, elements, layers):
