@@ -213,6 +213,38 @@ def case_no_converge():
     return {"no-converge.dat": d}
 
 
+# A stiff slab (32 Q4 along 4 m, the slave) on a soft foundation of 2 elements (the master):
+# each master face under 16 slave faces, mu 0.5, 100 kPa on the slab (N = 400 kN/m).
+FINE_MU, FINE_P, FINE_NX = 0.5, 100.0, 32
+
+
+def fine_slave(title):
+    d = Deck(title)
+    d.materials = elastic(1, "foundation", *CUSHION[:2]) + elastic(2, "slab", *SLAB[:2])
+    bg, be = d.rect(0.0, 0.0, 4.0, 1.0, 2, 1, 1, "BASE")
+    sg, se = d.rect(0.0, 1.0, 4.0, 0.25, FINE_NX, 1, 2, "SLAB")
+    d.fix(bg[0], 1, 1)
+    d.loads[""] = pressures(se[0], FINE_P)
+    d.contact = [f"&SURFACE, SLABBOT, {se[0][0]}, 1, {len(se[0]) - 1}, 1",
+                 f"&SURFACE, BASETOP, {be[-1][0]}, 3, {len(be[-1]) - 1}, 1",
+                 f"&PAIR, SLABBOT, BASETOP, {FINE_MU!r}, 0.0, MORTAR"]
+    return d, sg
+
+
+def case_fine_slave():
+    """Friction with a slave 16 times finer than its master (issue 20): a stiff slab pressed
+    on a soft foundation of two elements, then pushed along it by half the Coulomb force
+    (it must stick: closed form T < mu N), or dragged 5 cm (it must slip with mu N)."""
+    stick, sg = fine_slave("hard case: fine slave on a coarse master, stick")
+    push = 0.5 * FINE_MU * FINE_P * 4.0 / len(sg[1])
+    stick.loads["PUSH"] = [f"&FORCE, {sg[1][0]}, {sg[1][-1]}, 1, {push!r}, 0.0"]
+    stick.stages = ["&LOAD, , 1, , pressed", "&LOAD, PUSH, 2, , pushed by mu N / 2"]
+    slip, sg = fine_slave("hard case: fine slave on a coarse master, slip")
+    slip.fix([sg[0][0], sg[1][0]], 1, 0, ux=0.05)
+    slip.stages = ["&LOAD, , 5, , pressed and dragged 5 cm"]
+    return {"fine-stick.dat": stick, "fine-slip.dat": slip}
+
+
 def case_rpim_bend():
     """A slab against the face of a body placed in two layers (issue 20): the second layer's
     nodes start at their design place while the first layer's top has settled, so the face in
@@ -254,7 +286,8 @@ def case_rpim_bend():
 CASE_DECKS = (case_liftoff, case_long_slip, lambda: {"contrast.dat": column(
     "hard case: kn / E = 1e6, E slab / E cushion = 1e5", "JOINT")}, lambda: {
     "thin-0001.dat": column("hard case: thin layer of aspect ratio 0.001", "THIN", 0.001)},
-    case_rockfill, case_drawdown, case_mechanism, case_no_converge, case_rpim_bend)
+    case_rockfill, case_drawdown, case_mechanism, case_no_converge, case_rpim_bend,
+    case_fine_slave)
 
 
 class Run:

@@ -77,9 +77,8 @@ contains
             iteration = iteration + 1
             if (present(contact)) then
                 do c = 1, contact%nc
-                    b(neq + 2*c - 1:neq + 2*c) = merge(contact_rhs(contact, c, &
-                        system%contact_scale, known, system%viscous), 0.0_dp, &
-                        system%constrains(:, c))
+                    b(neq + 2*c - 1:neq + 2*c) = contact_rhs(contact, c, &
+                        system%contact_scale, known, system%viscous, system%constrains)
                 end do
             end if
             t0 = wall_seconds()
