@@ -572,11 +572,16 @@ def check_incipient_newton(cfrd, work):
     return fine_slab(cfrd, work, "incipient-newton", "incipient-slip-newton.dat", True)
 
 
+def finished(cfrd, work, name, deck):
+    """The run of a deck expected to converge, and its last stage (None if it did not)."""
+    r = Run(cfrd, work, deck)
+    return r, r.stages[-1] if common(name, r, 0) else None
+
+
 def check_fine_stick(cfrd, work):
-    r = Run(cfrd, work, "fine-stick.dat")
-    if not common("fine-stick", r, 0):
+    r, s = finished(cfrd, work, "fine-stick", "fine-stick.dat")
+    if s is None:
         return r, "did not run"
-    s = r.stages[-1]
     closed, slipping = int(np.count_nonzero(s["c_status"])), int(np.sum(s["c_status"] == 2))
     push = 0.5 * FINE_MU * FINE_P * 4.0
     check("fine-stick/stick", slipping == 0 and closed >= 30, f"pushed by T = mu N / 2 = "
@@ -593,10 +598,9 @@ def check_fine_stick(cfrd, work):
 
 
 def check_fine_slip(cfrd, work):
-    r = Run(cfrd, work, "fine-slip.dat")
-    if not common("fine-slip", r, 0):
+    r, s = finished(cfrd, work, "fine-slip", "fine-slip.dat")
+    if s is None:
         return r, "did not run"
-    s = r.stages[-1]
     nb = 6                                        # foundation nodes first, then the slab's
     fx = float(s["reaction"][nb, 0] + s["reaction"][nb + FINE_NX + 1, 0])
     expect = FINE_MU * FINE_P * 4.0
