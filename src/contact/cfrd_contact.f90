@@ -79,7 +79,8 @@ module cfrd_contact
         integer, allocatable :: tgroup(:)          !! (nc)
         integer, allocatable :: grp_ptr(:), grp_node(:)
         !> (nc) the shape of a group's shear traction, q_c = beta_c q_G: the members'
-        !> pressures at the start of the increment over the group's largest (1 if none)
+        !> pressures at the start of the increment over the group's largest (1 if none;
+        !> cfrd_contact_constraints: contact_shear_shape)
         real(dp), allocatable :: beta(:)
     end type contact_t
 
@@ -269,7 +270,6 @@ contains
                     changed = .false.
                     searched = .false.
                     call weighted_gaps()
-                    call shear_shape()
                     return
                 end if
             end if
@@ -341,23 +341,8 @@ contains
             changed = changed .or. any(old_group /= contact%tgroup)
             contact%g_curve = g_curve
             call weighted_gaps()
-            call shear_shape()
         end associate
     contains
-        !> Each friction group's shear shape beta (contact_t) from the accepted pressures.
-        subroutine shear_shape()
-            real(dp) :: pmax
-            integer :: g
-            contact%beta = 1.0_dp
-            do g = 1, contact%ngroup
-                associate (members => contact%grp_node(contact%grp_ptr(g): &
-                                                       contact%grp_ptr(g + 1) - 1))
-                    pmax = maxval(max(contact%p(members), 0.0_dp))
-                    if (pmax > 0.0_dp) contact%beta(members) = max(contact%p(members), &
-                                                                   0.0_dp)/pmax
-                end associate
-            end do
-        end subroutine shear_shape
 
         !> Weighted gaps at the start, the supported nodes, the first guess.
         subroutine weighted_gaps()

@@ -12,7 +12,7 @@ module cfrd_contact_constraints
 
     public :: contact_element_dofs, contact_element_matrix, contact_rhs, contact_unpack
     public :: contact_update_sets, contact_stick_excess, contact_forces, contact_accept
-    public :: contact_group_dofs, contact_group_matrix
+    public :: contact_group_dofs, contact_group_matrix, contact_shear_shape
 
 contains
 
@@ -92,6 +92,21 @@ contains
         if (.not. length > 0.0_dp) length = 1.0_dp
         diag = scale*length
     end function row_diagonal
+
+    !> Each friction group's shear shape beta (contact_t) from its members' pressures, those
+    !> of the accepted state at the start of an increment (docs/theory.md section 14).
+    pure subroutine contact_shear_shape(contact)
+        type(contact_t), intent(inout) :: contact
+        real(dp) :: pmax
+        integer :: g
+        contact%beta = 1.0_dp
+        do g = 1, contact%ngroup
+            associate (members => contact%grp_node(contact%grp_ptr(g):contact%grp_ptr(g + 1) - 1))
+                pmax = maxval(max(contact%p(members), 0.0_dp))
+                if (pmax > 0.0_dp) contact%beta(members) = max(contact%p(members), 0.0_dp)/pmax
+            end associate
+        end do
+    end subroutine contact_shear_shape
 
     !> Equation numbers of friction group g: its members' contact element dofs one after
     !> another (contact_element_dofs).
