@@ -238,62 +238,61 @@ contains
     !> W = 40 kN/m; 1e-8.
     subroutine test_incline_stick(error)
         type(error_t), allocatable, intent(out) :: error
-        real(dp), parameter :: deg = 0.017453292519943295769_dp, weight = 40.0_dp
-        real(dp) :: normal, tangential
-        integer :: statuses(4)
-        call incline(20.0_dp, 0.5_dp, 0.0_dp, normal, tangential, statuses, error)
-        if (allocated(error)) return
-        call check(error, normal, weight*cos(20.0_dp*deg), 'N = W cos theta', rel=1e-8_dp)
-        if (allocated(error)) return
-        call check(error, tangential, -weight*sin(20.0_dp*deg), 'T = -W sin theta', rel=1e-8_dp)
-        if (allocated(error)) return
-        ! (the uphill end, least pressed, may slip locally: partial slip)
-        call check(error, any(statuses == 1), 'the slider sticks (some node in stick)')
+        call incline_stick(error, .false.)
     end subroutine test_incline_stick
 
     !> tan 30 deg = 0.577 > mu = 0.3: the slider slides (held 5 cm downhill at one node);
     !> Coulomb: T = -mu W cos theta, N = W cos theta; 1e-8.
     subroutine test_incline_slide(error)
         type(error_t), allocatable, intent(out) :: error
-        real(dp), parameter :: deg = 0.017453292519943295769_dp, weight = 40.0_dp
-        real(dp) :: normal, tangential
-        integer :: statuses(4)
-        call incline(30.0_dp, 0.3_dp, 0.05_dp, normal, tangential, statuses, error)
-        if (allocated(error)) return
-        call check(error, normal, weight*cos(30.0_dp*deg), 'N = W cos theta', rel=1e-8_dp)
-        if (allocated(error)) return
-        call check(error, tangential, -0.3_dp*weight*cos(30.0_dp*deg), 'T = -mu W cos theta', &
-                   rel=1e-8_dp)
-        if (allocated(error)) return
-        call check(error, all(statuses == 2), 'every node slips')
+        call incline_slide(error, .false.)
     end subroutine test_incline_slide
 
     !> The slider in 12 elements on a base of 1 (12 slave faces per master face: friction per
-    !> master segment, docs/theory.md section 14), tan 20 deg = 0.364 < mu = 0.5: closed form
-    !> of a block, it sticks, no node slips; statics: N = W cos theta, T = -W sin theta; 1e-8.
+    !> master segment, docs/theory.md section 14), tan 20 deg < mu = 0.5: the closed form of
+    !> a block, it sticks, no node slips; statics as test_incline_stick; 1e-8.
     subroutine test_incline_fine_stick(error)
         type(error_t), allocatable, intent(out) :: error
+        call incline_stick(error, .true.)
+    end subroutine test_incline_fine_stick
+
+    !> The same fine slider at tan 30 deg > mu = 0.3, held 5 cm downhill at one node:
+    !> Coulomb as test_incline_slide (1e-8); every node slips.
+    subroutine test_incline_fine_slide(error)
+        type(error_t), allocatable, intent(out) :: error
+        call incline_slide(error, .true.)
+    end subroutine test_incline_fine_slide
+
+    !> The stick case on the incline: the 3-element slider (some node sticks; its uphill end,
+    !> least pressed, may slip locally: partial slip) or the `fine` one (no node slips).
+    subroutine incline_stick(error, fine)
+        type(error_t), allocatable, intent(out) :: error
+        logical, intent(in) :: fine
         real(dp), parameter :: deg = 0.017453292519943295769_dp, weight = 40.0_dp
         real(dp) :: normal, tangential
-        integer :: statuses(13)
-        call incline(20.0_dp, 0.5_dp, 0.0_dp, normal, tangential, statuses, error, fine=.true.)
+        integer :: statuses(merge(13, 4, fine))
+        call incline(20.0_dp, 0.5_dp, 0.0_dp, normal, tangential, statuses, error, fine)
         if (allocated(error)) return
         call check(error, normal, weight*cos(20.0_dp*deg), 'N = W cos theta', rel=1e-8_dp)
         if (allocated(error)) return
         call check(error, tangential, -weight*sin(20.0_dp*deg), 'T = -W sin theta', rel=1e-8_dp)
         if (allocated(error)) return
-        call check(error, .not. any(statuses == 2) .and. count(statuses == 1) >= 12, &
-                   'the slider sticks: no slave node slips')
-    end subroutine test_incline_fine_stick
+        if (fine) then
+            call check(error, .not. any(statuses == 2) .and. count(statuses == 1) >= 12, &
+                       'the slider sticks: no slave node slips')
+        else
+            call check(error, any(statuses == 1), 'the slider sticks (some node in stick)')
+        end if
+    end subroutine incline_stick
 
-    !> The same fine slider at tan 30 deg = 0.577 > mu = 0.3, held 5 cm downhill at one node:
-    !> Coulomb, T = -mu W cos theta, N = W cos theta (1e-8); every node slips.
-    subroutine test_incline_fine_slide(error)
+    !> The slide case on the incline, the 3-element slider or the `fine` one.
+    subroutine incline_slide(error, fine)
         type(error_t), allocatable, intent(out) :: error
+        logical, intent(in) :: fine
         real(dp), parameter :: deg = 0.017453292519943295769_dp, weight = 40.0_dp
         real(dp) :: normal, tangential
-        integer :: statuses(13)
-        call incline(30.0_dp, 0.3_dp, 0.05_dp, normal, tangential, statuses, error, fine=.true.)
+        integer :: statuses(merge(13, 4, fine))
+        call incline(30.0_dp, 0.3_dp, 0.05_dp, normal, tangential, statuses, error, fine)
         if (allocated(error)) return
         call check(error, normal, weight*cos(30.0_dp*deg), 'N = W cos theta', rel=1e-8_dp)
         if (allocated(error)) return
@@ -301,7 +300,7 @@ contains
                    rel=1e-8_dp)
         if (allocated(error)) return
         call check(error, all(statuses == 2), 'every node slips')
-    end subroutine test_incline_fine_slide
+    end subroutine incline_slide
 
     !> Lift-off: a stiff slab (8 x 0.4 m, 10 elements, 24 kN/m3, mu 0.5) on an elastic base
     !> (8 x 2 m, 16 x 2 elements, weightless) whose bottom drops 0.2 m over |x - 4| <= 1.5.
