@@ -13,6 +13,7 @@ module cfrd_card_schema
     private
 
     public :: card_schema_t, card_schemas
+    public :: title_fields, loads_header_fields
     public :: control_fields, effects_fields, node_fields, element_fields, material_fields, &
               elastic_fields, eb_fields, eb_strength_fields, creep_fields, wetting_fields, &
               goodman_fields, pjoint_fields, plinth_fields, interface_fields, slab_fields, &
@@ -44,6 +45,11 @@ module cfrd_card_schema
     character(len=*), parameter :: a_count = 'a count >= 1 (or blank)'
     character(len=*), parameter :: a_face = 'a face from 1 to 4'
 
+    !> Header cards that carry a value: the TITLE card's title and a LOADS set's name.
+    type(field_t), parameter :: title_fields(2) = [field_t('KEYWORD', 1, 10, text_field), &
+                                                   field_t('TITLE', 11, 70, text_field)]
+    type(field_t), parameter :: loads_header_fields(2) = [ &
+        field_t('KEYWORD', 1, 10, text_field), field_t('NAME', 11, 10, text_field)]
     type(field_t), parameter :: control_fields(11) = [ &
         field_t('NNODE', 1, 5, int_field, lo=0.0_dp, expected=a_count, found=found_value), &
         field_t('NELEM', 6, 5, int_field, lo=0.0_dp, expected=a_count, found=found_value), &
@@ -319,7 +325,7 @@ contains
     !> Every card layout, named as in docs/cards.md (group section, card number).
     function card_schemas() result(cards)
         type(card_schema_t), allocatable :: cards(:)
-        allocate (cards(27))
+        allocate (cards(29))
         call set(1, 'CONTROL', 'CONTROL', 0, control_fields)
         call set(2, 'CONTROL EFFECTS', 'CONTROL', 0, effects_fields)
         call set(3, 'NODES', 'NODES', 0, node_fields)
@@ -345,8 +351,10 @@ contains
         call set(23, 'STAGES LOAD', 'STAGES', 0, load_stage_fields)
         call set(24, 'STAGES WATER', 'STAGES', 0, water_stage_fields)
         call set(25, 'STAGES WET', 'STAGES', 0, wet_stage_fields)
-        call set(26, 'MATERIALS PJOINT card 2', 'MATERIALS', 0, pjoint_fields)
-        call set(27, 'PLINTH', 'PLINTH', 0, plinth_fields)
+        call set(26, 'TITLE', 'TITLE', 0, title_fields)
+        call set(27, 'LOADS header', 'LOADS', 0, loads_header_fields)
+        call set(28, 'MATERIALS PJOINT card 2', 'MATERIALS', 0, pjoint_fields)
+        call set(29, 'PLINTH', 'PLINTH', 0, plinth_fields)
     contains
         subroutine set(i, name, group, card, fields)
             integer, intent(in) :: i, card

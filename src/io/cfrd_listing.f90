@@ -8,8 +8,9 @@ module cfrd_listing
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, io_error
     use cfrd_version, only: cfrd_version_string
-    use cfrd_model, only: model_t, law_name, dry_level, law_goodman, law_pjoint, is_joint_kind, &
-                          scheme_name, search_name
+    use cfrd_model, only: model_t, law_name, dry_level, law_goodman, law_pjoint, &
+                          is_joint_kind, scheme_name, search_name, scheme_mortar
+    use cfrd_contact, only: friction_group_ratio
     use cfrd_results, only: stage_result_t
     use cfrd_stage_summary, only: stage_summary_t
     use cfrd_columns, only: csv_real, date_of, level_of, run_id_comment
@@ -146,6 +147,13 @@ contains
                             size(model%surfaces(pair%master)%element), pair%friction, &
                             pair%tolerance, scheme_name(pair%scheme), search_name(pair%search), &
                             trim(merge('yes', 'no ', pair%cast))
+                        ! a slave much finer than its master: friction per master segment
+                        if (pair%friction > 0.0_dp .and. pair%scheme == scheme_mortar .and. &
+                            mean_face(pair%master) >= friction_group_ratio* &
+                            mean_face(pair%slave)) write (unit, '(7x,a,f6.1,a)') &
+                            'the slave''s faces are', mean_face(pair%master)/ &
+                            mean_face(pair%slave), ' times shorter than the master''s: '// &
+                            'friction per master segment (docs/theory.md section 14)'
                     end associate
                 end do
             end if
@@ -158,6 +166,22 @@ contains
                 end do
             end if
         end if
+    contains
+        !> The mean length of a surface's faces at the coordinates of the deck.
+        real(dp) function mean_face(k)
+            integer, intent(in) :: k
+            integer :: j, e, f
+            mean_face = 0.0_dp
+            associate (surface => model%surfaces(k), mesh => model%mesh)
+                do j = 1, size(surface%element)
+                    e = surface%element(j)
+                    f = surface%face(j)
+                    mean_face = mean_face + norm2(mesh%x(:, mesh%conn(mod(f, 4) + 1, e)) - &
+                                                  mesh%x(:, mesh%conn(f, e)))
+                end do
+                mean_face = mean_face/max(size(surface%element), 1)
+            end associate
+        end function mean_face
     end subroutine write_model_summary
 
     !> One line per stage: what it did, how the solution went, the extreme displacements.

@@ -121,6 +121,18 @@ def free(*values):
                            for v in values)
 
 
+EFFECTS = ("ROCKFILL", "UNLOAD", "WATER", "INTERFACE", "FRICTION", "SLIP", "PHASES")
+
+
+def with_effects(text, **switch):
+    """The deck text with an EFFECTS card (A10 fields after the keyword, blank = the default;
+    switch: field -> value) after its CONTROL header (the group takes it anywhere)."""
+    lines = text.split("\n")
+    k = next(i for i, line in enumerate(lines) if line.rstrip() == "CONTROL")
+    card = "EFFECTS   " + "".join(f"{switch.get(f, ''):<10s}" for f in EFFECTS)
+    return "\n".join(lines[:k + 1] + [card] + lines[k + 1:])
+
+
 def groups(text):
     """The data cards of a fixed-format deck by group, in order: [(GROUP, [card, ...])]
     (comment and blank cards left out; a header's own card is not among its cards)."""
