@@ -178,6 +178,9 @@ tool_checks "effects" python3 tools/check_effects.py --cfrd "$cfrd" --workdir "$
 # form, the first-order convergence of the time steps, a layered column against scipy.
 tool_checks "creep" python3 tools/check_creep.py --cfrd "$cfrd" --workdir "$work/creep"
 
+# The plinth and the perimetric joint (issue 22): two blocks against statics closed forms,
+# the CSV, HDF5 and listing agreeing, the --plinth decks of every interface method read.
+tool_checks "plinth" python3 tools/check_plinth.py --cfrd "$cfrd" --workdir "$work/plinth"
 tool_checks "tianshengqiao" python3 tools/check_tianshengqiao.py --run "$cfrd" \
     --workdir "$work/tianshengqiao"
 # The XDMF file read back through an independent reader (meshio) against the HDF5 datasets.

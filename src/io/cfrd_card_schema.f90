@@ -16,7 +16,8 @@ module cfrd_card_schema
     public :: title_fields, loads_header_fields
     public :: control_fields, effects_fields, node_fields, element_fields, material_fields, &
               elastic_fields, eb_fields, eb_strength_fields, creep_fields, wetting_fields, &
-              goodman_fields, interface_fields, slab_fields, stage_fields, load_stage_fields, &
+              goodman_fields, pjoint_fields, plinth_fields, interface_fields, slab_fields, &
+              stage_fields, load_stage_fields, &
               water_stage_fields, wet_stage_fields, surface_fields, pair_fields, reservoir_fields, &
               gauge_fields, boundary_fields, gravity_fields, force_fields, pressure_fields
 
@@ -124,8 +125,9 @@ module cfrd_card_schema
 
     type(field_t), parameter :: material_fields(3) = [ &
         field_t('M', 1, 5, int_field), &
-        field_t('LAW', 6, 10, text_field, words='ELASTIC EB GOODMAN', &
-                expected='a material law: ELASTIC, EB or GOODMAN', found=found_upper), &
+        field_t('LAW', 6, 10, text_field, words='ELASTIC EB GOODMAN PJOINT', &
+                expected='a material law: ELASTIC, EB, GOODMAN or PJOINT', &
+                found=found_upper), &
         field_t('LABEL', 16, 65, text_field)]
     !> ELASTIC: E and NU blank fail their checks, quoted as '(blank)'.
     type(field_t), parameter :: elastic_fields(3) = [ &
@@ -200,6 +202,15 @@ module cfrd_card_schema
                 expected='0 (tension carried with KNT) or 1 (tension cut-off)', &
                 found=found_value)]
 
+    !> PJOINT card 2: the perimetric joint's stiffnesses (docs/theory.md section 12).
+    type(field_t), parameter :: pjoint_fields(3) = [ &
+        field_t('KNC', 1, 10, real_field, required=.true., lo=small, &
+                expected='a real > 0 (kPa/m)'), &
+        field_t('KNT', 11, 10, real_field, required=.true., lo=small, &
+                expected='a real > 0 (kPa/m)'), &
+        field_t('KS', 21, 10, real_field, required=.true., lo=small, &
+                expected='a real > 0 (kPa/m)')]
+
     type(field_t), parameter :: interface_fields(10) = [ &
         field_t('LINE', 1, 5, int_field, lo=1.0_dp, expected='an interface line number >= 1'), &
         field_t('NB', 6, 5, int_field), &
@@ -213,6 +224,7 @@ module cfrd_card_schema
         field_t('RULE', 46, 10, text_field), &
         field_t('GROUP', 56, 10, text_field)]
     type(field_t), parameter :: slab_fields(1) = [field_t('GROUP', 11, 10, text_field)]
+    type(field_t), parameter :: plinth_fields(1) = [field_t('GROUP', 11, 10, text_field)]
 
     type(field_t), parameter :: stage_ninc = field_t('NINC', 21, 5, int_field, &
         default=1.0_dp, lo=1.0_dp, hi=100000.0_dp, &
@@ -313,7 +325,7 @@ contains
     !> Every card layout, named as in docs/cards.md (group section, card number).
     function card_schemas() result(cards)
         type(card_schema_t), allocatable :: cards(:)
-        allocate (cards(27))
+        allocate (cards(29))
         call set(1, 'CONTROL', 'CONTROL', 0, control_fields)
         call set(2, 'CONTROL EFFECTS', 'CONTROL', 0, effects_fields)
         call set(3, 'NODES', 'NODES', 0, node_fields)
@@ -341,6 +353,8 @@ contains
         call set(25, 'STAGES WET', 'STAGES', 0, wet_stage_fields)
         call set(26, 'TITLE', 'TITLE', 0, title_fields)
         call set(27, 'LOADS header', 'LOADS', 0, loads_header_fields)
+        call set(28, 'MATERIALS PJOINT card 2', 'MATERIALS', 0, pjoint_fields)
+        call set(29, 'PLINTH', 'PLINTH', 0, plinth_fields)
     contains
         subroutine set(i, name, group, card, fields)
             integer, intent(in) :: i, card

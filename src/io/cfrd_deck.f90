@@ -15,14 +15,14 @@ module cfrd_deck
     use cfrd_deck_groups, only: group_cards_t, counts_t, append_card, leading_word, &
                                 g_title, g_control, g_nodes, g_elements, g_materials, &
                                 g_boundary, g_loads, g_stages, g_reservoir, g_gauges, &
-                                g_interface, g_slab, g_contact, ngroups, group_keywords, &
+                                g_interface, g_slab, g_contact, g_plinth, ngroups, group_keywords, &
                                 valid_groups, group_required, load_keywords, stage_keywords, &
                                 contact_keywords, effects_keyword, creep_keyword, &
                                 wetting_keyword
     use cfrd_deck_control, only: read_control, apply_deck_effects
     use cfrd_deck_materials, only: read_materials
     use cfrd_deck_mesh, only: read_nodes, read_elements
-    use cfrd_deck_interface, only: read_interface, read_slab
+    use cfrd_deck_interface, only: read_interface, read_slab, read_plinth
     use cfrd_deck_contact, only: read_contact
     use cfrd_deck_loads, only: read_boundary, read_loads
     use cfrd_deck_reservoir, only: read_reservoir, read_gauges
@@ -73,6 +73,8 @@ contains
         call read_contact(path, groups(g_contact), model, error)
         if (allocated(error)) return
         call read_boundary(path, groups(g_boundary), model, error)
+        if (allocated(error)) return
+        call read_plinth(path, groups(g_plinth), model, error)
         if (allocated(error)) return
         allocate (model%load_sets(size(load_groups)))
         do i = 1, size(load_groups)

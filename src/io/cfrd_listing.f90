@@ -8,8 +8,8 @@ module cfrd_listing
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, io_error
     use cfrd_version, only: cfrd_version_string
-    use cfrd_model, only: model_t, law_name, dry_level, law_goodman, is_joint_kind, &
-                          scheme_name, search_name, scheme_mortar
+    use cfrd_model, only: model_t, law_name, dry_level, law_goodman, law_pjoint, &
+                          is_joint_kind, scheme_name, search_name, scheme_mortar
     use cfrd_contact, only: friction_group_ratio
     use cfrd_results, only: stage_result_t
     use cfrd_stage_summary, only: stage_summary_t
@@ -17,6 +17,7 @@ module cfrd_listing
     use cfrd_interface_io, only: write_opening_history, write_interface_tables, &
                                  write_opening_summary
     use cfrd_effects, only: effects_text
+    use cfrd_pjoint_io, only: write_pjoint_table
     use cfrd_run_identity, only: run_identity_t
     implicit none
     private
@@ -52,6 +53,7 @@ contains
         call write_stage_table(unit, model, summaries)
         call write_gauge_tables(unit, model, summaries)
         call write_opening_history(unit, model, summaries)
+        call write_pjoint_table(unit, model, summaries)
         ! The full tables of the last stage; every stage's state is in the HDF5 file.
         call write_stage(unit, model, last, size(summaries))
         call write_solver(unit, model, summaries)
@@ -127,6 +129,9 @@ contains
                     mat%kn_tension, ' kPa/m, k1', mat%k1, ', n1', mat%n1, ', Rf1', mat%rf1, &
                     ', phi', mat%phi, ' deg, sigma_n floor', mat%sigma_n_floor, ' kPa, tension', &
                     trim(merge(' cut off        ', ' carried with kn', mat%tension_cutoff))
+                if (mat%law == law_pjoint) write (unit, '(8x,a,3es11.3,a)') &
+                    'kn compression / tension (waterstops), ks', mat%kn_compression, &
+                    mat%kn_tension, mat%ks_joint, ' kPa/m'
             end associate
         end do
         if (allocated(model%contact_pairs)) then

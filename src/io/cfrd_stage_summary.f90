@@ -1,12 +1,14 @@
-!> What the listing, the terminal summary and the gauge and opening CSV files need of a stage
-!> once its full results have been streamed to the HDF5 file: its scalars, the extreme
-!> displacements since placement with their nodes, the gauges' displacements and the slab
-!> openings. A few hundred bytes a stage, so a run keeps one per stage and the full
-!> stage_result_t of the last stage only (docs/results.md, "Streaming").
+!> What the listing, the terminal summary and the gauge, opening and perimetric-joint CSV
+!> files need of a stage once its full results have been streamed to the HDF5 file: its
+!> scalars, the extreme displacements since placement with their nodes, the gauges'
+!> displacements, the slab openings and the perimetric joints. A few hundred bytes a stage,
+!> so a run keeps one per stage and the full stage_result_t of the last stage only
+!> (docs/results.md, "Streaming").
 module cfrd_stage_summary
     use cfrd_kinds, only: dp
     use cfrd_model, only: model_t
-    use cfrd_results, only: results_t, stage_result_t, opening_t, solver_stats_t
+    use cfrd_results, only: results_t, stage_result_t, opening_t, solver_stats_t, &
+                            pjoint_result_t
     implicit none
     private
 
@@ -29,6 +31,7 @@ module cfrd_stage_summary
         real(dp) :: ux_max = 0.0_dp, ux_min = 0.0_dp   !! m
         real(dp), allocatable :: gauge_u(:, :)     !! (2, ngauges) m, ux, uy at the gauges
         type(opening_t), allocatable :: openings(:)    !! per line and slab phase
+        type(pjoint_result_t) :: pjoint                !! the perimetric joints
         type(solver_stats_t) :: stats
     end type stage_summary_t
 
@@ -70,6 +73,7 @@ contains
         else
             allocate (summary%openings(0))
         end if
+        summary%pjoint = stage%pjoint
         summary%stats = stage%stats
     end function summarise
 
