@@ -823,8 +823,10 @@ def main(argv=None):
                          " quads), joint (Goodman joints on node pairs) or contact (the slab"
                          " meshed on its own, CONTACT cards)")
     ap.add_argument("--geometry", default=str(GEOMETRY))
-    ap.add_argument("--solver", default="midpoint", choices=["midpoint", "newton"],
-                    help="midpoint stiffness (the paper's) or Newton to 1e-10")
+    ap.add_argument("--solver", default=None, choices=["midpoint", "newton"],
+                    help="midpoint stiffness (the paper's; the default) or Newton to 1e-10"
+                         " (the default with --plinth: the midpoint method goes out of"
+                         " balance once the perimetric joint opens)")
     ap.add_argument("--report", action="store_true", help="print the mesh quality")
     ap.add_argument("--plinth", action="store_true",
                     help="a concrete plinth on the rock at the slab's toe and a perimetric"
@@ -850,6 +852,8 @@ def main(argv=None):
                          " ([creep] of the geometry file), stage dates in days and WAIT stages"
                          " to [creep] wait_until (docs/tianshengqiao.md s. 9)")
     args = ap.parse_args(argv)
+    if args.solver is None:
+        args.solver = "newton" if args.plinth else "midpoint"
     base = Geometry(args.geometry)
     base.creep = args.creep
     if args.top_rows is not None:
