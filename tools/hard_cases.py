@@ -218,16 +218,17 @@ def case_no_converge():
 FINE_MU, FINE_P, FINE_NX = 0.5, 100.0, 32
 
 
-def fine_slave(title):
+def fine_slave(title, faces=2, nx=FINE_NX):
     d = Deck(title)
     d.materials = elastic(1, "foundation", *CUSHION[:2]) + elastic(2, "slab", *SLAB[:2])
-    bg, be = d.rect(0.0, 0.0, 4.0, 1.0, 2, 1, 1, "BASE")
-    sg, se = d.rect(0.0, 1.0, 4.0, 0.25, FINE_NX, 1, 2, "SLAB")
+    bg, be = d.rect(0.0, 0.0, 4.0, 1.0, faces, 1, 1, "BASE")
+    sg, se = d.rect(0.0, 1.0, 4.0, 0.25, nx, 1, 2, "SLAB")
     d.fix(bg[0], 1, 1)
     d.loads[""] = pressures(se[0], FINE_P)
     d.contact = [f"&SURFACE, SLABBOT, {se[0][0]}, 1, {len(se[0]) - 1}, 1",
                  f"&SURFACE, BASETOP, {be[-1][0]}, 3, {len(be[-1]) - 1}, 1",
                  f"&PAIR, SLABBOT, BASETOP, {FINE_MU!r}, 0.0, MORTAR"]
+    d.base_top, d.slab_faces = bg[-1], se[0]
     return d, sg
 
 
@@ -243,6 +244,35 @@ def case_fine_slave():
     slip.fix([sg[0][0], sg[1][0]], 1, 0, ux=0.05)
     slip.stages = ["&LOAD, , 5, , pressed and dragged 5 cm"]
     return {"fine-stick.dat": stick, "fine-slip.dat": slip}
+
+
+# The issue-20 pressure criterion where it is meaningful: a stiff slab of 16 faces (the
+# fine-stick slab's) on a foundation of ONE element (16 slave faces per master face), one
+# smooth piece (base fixed, sides on rollers, nothing staged), under a linearly varying
+# pressure (100 kPa at x = 0 to 25 kPa at x = 4 m, the shape of water on a face).
+SMOOTH_P, SMOOTH_NX = (100.0, 25.0), 16
+
+
+def case_fine_smooth():
+    """Pressures that do not alternate (issue 20): the fine slave on a coarse, smooth,
+    one-piece foundation under a smoothly varying pressure, frictionless (the slab's bottom
+    left node held horizontally: a mechanism otherwise, its reaction zero) and with friction
+    (held by friction alone)."""
+    decks = {}
+    for name, mu in (("fine-smooth.dat", 0.0), ("fine-smooth-friction.dat", FINE_MU)):
+        d, sg = fine_slave(f"hard case: fine slave, one-face foundation, linear load, mu {mu}",
+                           faces=1, nx=SMOOTH_NX)
+        d.contact[-1] = d.contact[-1].replace(f"{FINE_MU!r}, 0.0, MORTAR", f"{mu!r}, 0.0, MORTAR")
+        d.fix([d.base_top[0], d.base_top[-1]], 1, 0)        # the foundation's sides on rollers
+        if mu == 0.0:
+            d.fix([sg[0][0]], 1, 0)
+        p = [SMOOTH_P[0] + (SMOOTH_P[1] - SMOOTH_P[0]) * i / SMOOTH_NX
+             for i in range(SMOOTH_NX + 1)]
+        d.loads[""] = [f"&PRESSURE, {e}, 3, {p[i]!r}, {p[i + 1]!r}"
+                       for i, e in enumerate(d.slab_faces)]
+        d.stages = ["&LOAD, , 2, , pressed by 100-25 kPa"]
+        decks[name] = d
+    return decks
 
 
 def case_rpim_bend():
@@ -313,7 +343,7 @@ CASE_DECKS = (case_liftoff, case_long_slip, lambda: {"contrast.dat": column(
     "hard case: kn / E = 1e6, E slab / E cushion = 1e5", "JOINT")}, lambda: {
     "thin-0001.dat": column("hard case: thin layer of aspect ratio 0.001", "THIN", 0.001)},
     case_rockfill, case_drawdown, case_mechanism, case_no_converge, case_rpim_bend,
-    case_fine_slave, case_incipient_newton)
+    case_fine_slave, case_fine_smooth, case_incipient_newton)
 
 
 class Run:
@@ -615,6 +645,56 @@ def check_fine_slip(cfrd, work):
     return r, f"converged; drag force {e:.0e} from mu N, every closed node slips"
 
 
+def surface_profile(stage):
+    """The slave nodes of a one-surface pair in order along s: pressure p, shear q, status,
+    and the node's tributary length w (half its faces, reference coordinates)."""
+    o = np.argsort(stage["c_s"])
+    xy = np.column_stack([stage["c_x"], stage["c_y"]])[o]
+    faces = np.linalg.norm(np.diff(xy, axis=0), axis=1)
+    w = np.zeros(len(o))
+    w[:-1] += faces / 2
+    w[1:] += faces / 2
+    return -stage["c_sigma_n"][o], stage["c_tau"][o], stage["c_status"][o], w, o
+
+
+def check_fine_smooth(cfrd, work):
+    """fine-smooth (frictionless) and fine-smooth-friction: the issue's criterion, the second
+    difference of the pressure at every interior slave node under 5 % of the peak, and
+    statics: the foundation's base carries the applied load, the total normal force of the
+    contact is that load (up to the geometry's update), no closed node slips."""
+    out = []
+    load = (SMOOTH_P[0] + SMOOTH_P[1]) / 2 * 4.0               # closed form: 250 kN/m
+    for name, deck in (("fine-smooth", "fine-smooth.dat"),
+                       ("fine-smooth-friction", "fine-smooth-friction.dat")):
+        r, s = finished(cfrd, work, name, deck)
+        if s is None:
+            return r, "did not run"
+        p, q, st, w, o = surface_profile(s)
+        d2 = np.abs(p[:-2] - 2 * p[1:-1] + p[2:]) / p.max()
+        check(name + "/second-difference", d2.max() <= 0.05 and np.all(st != 0),
+              f"|p_(i-1) - 2 p_i + p_(i+1)| at the {len(d2)} interior slave nodes up to "
+              f"{d2.max():.4f} of the peak {p.max():.2f} kPa (issue 20: 0.05; the load is "
+              f"linear, the master straight); {int(np.sum(st != 0))} of {len(st)} closed")
+        fy = float(s["reaction"][:2, 1].sum())        # the foundation's base: nodes 1, 2
+        e_base = abs(fy - load) / load
+        # the couplings are built at the deformed coordinates of the increment's start:
+        # lengths and normals move by the slave faces' strain and rotation (squared)
+        u = s["displacement"][s["c_node"][o] - 1]
+        du = np.diff(u, axis=0) / np.diff(s["c_x"][o])[:, None]
+        bound = float(np.max(np.abs(du[:, 0])) + np.max(du[:, 1] ** 2))
+        e_n = abs(float(np.sum(w * p)) - load) / load
+        slips = int(np.sum(st == 2)) if "friction" in name else 0
+        check(name + "/statics", e_base <= 1e-9 and e_n <= bound and slips == 0,
+              f"foundation base reaction {fy:.9f} kN/m against the load (100 + 25) / 2 x 4 m = "
+              f"{load:.0f} (statics): {e_base:.1e} (1e-9); total normal force sum w_j p_j "
+              f"against it {e_n:.1e} (the faces' strain + rotation^2, {bound:.1e})"
+              + (f"; {slips} closed nodes slip (no tangential load: stick)"
+                 if "friction" in name else ""))
+        out.append(f"{name}: second difference {d2.max():.3f} of the peak, normal force "
+                   f"{e_n:.0e}")
+    return r, "converged; " + "; ".join(out)
+
+
 def check_rpim_bend(cfrd, work):
     r = Run(cfrd, work, "rpim-bend-rpim.dat")
     ref = Run(cfrd, work, "rpim-bend-linear.dat")
@@ -654,6 +734,8 @@ CASES = [("liftoff", "full lift-off of the slab and re-closure", check_liftoff),
          ("incipient-newton", "the same deck with Newton to 1e-10", check_incipient_newton),
          ("fine-stick", "fine slave on a coarse master pushed by mu N / 2", check_fine_stick),
          ("fine-slip", "fine slave on a coarse master dragged", check_fine_slip),
+         ("fine-smooth", "fine slave, 16 faces on one master face, linear load, mu 0 and "
+          "0.5", check_fine_smooth),
          ("rpim-bend", "RPIM master face placed in two layers (a bend at the boundary)",
           check_rpim_bend)]
 
