@@ -14,6 +14,8 @@ import math
 import os
 import shutil
 import sys
+import tempfile
+import tomllib
 
 import h5py
 import numpy as np
@@ -339,11 +341,37 @@ def case_incipient_newton():
         [(control, control[:-2] + "31.0000E-10   30\n")])}
 
 
+class Generated:
+    """A Tianshengqiao-I deck of tools/tianshengqiao.py OPTIONS with its one contact pair's
+    search LINEAR replaced by RPIM (text() as Deck's)."""
+
+    def __init__(self, header, *options):
+        self.header, self.options = header, options
+
+    def text(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            text = open(runner.tianshengqiao(os.path.join(tmp, "deck.dat"),
+                                             *self.options)).read()
+        if text.count("MORTAR    LINEAR ") != 1:
+            raise SystemExit("tianshengqiao.py: not one MORTAR LINEAR pair to make RPIM")
+        return self.header + text.replace("MORTAR    LINEAR ", "MORTAR    RPIM   ")
+
+
+def case_rpim_x1():
+    """The Tianshengqiao-I contact deck at x1 with the master curve by RPIM (the paper's Step
+    3; rpim-x1 of the hard decks below), midpoint and Newton to 1e-10."""
+    return {f"rpim-x1{tag}.dat": Generated(
+        f"* tools/tianshengqiao.py --refine 1 --interface contact --solver {solver}, SEARCH "
+        "RPIM (written by tools/hard_cases.py --write, issue 20)\n", "--refine", 1,
+        "--interface", "contact", "--solver", solver)
+        for tag, solver in (("", "midpoint"), ("-newton", "newton"))}
+
+
 CASE_DECKS = (case_liftoff, case_long_slip, lambda: {"contrast.dat": column(
     "hard case: kn / E = 1e6, E slab / E cushion = 1e5", "JOINT")}, lambda: {
     "thin-0001.dat": column("hard case: thin layer of aspect ratio 0.001", "THIN", 0.001)},
     case_rockfill, case_drawdown, case_mechanism, case_no_converge, case_rpim_bend,
-    case_fine_slave, case_fine_smooth, case_incipient_newton)
+    case_fine_slave, case_fine_smooth, case_incipient_newton, case_rpim_x1)
 
 
 class Run:
@@ -371,6 +399,8 @@ class Run:
                                                 "principal", "stress_gauss")}
                 stage.update({"c_" + k: g["contact"][k][...] for k in g.get("contact", {})})
                 stage.update(cutbacks=int(g.attrs["cutbacks"]), applied=g.attrs["applied_load"],
+                             water_level=float(g.attrs.get("water_level", -np.inf)),
+                             reservoir_empty=bool(g.attrs.get("reservoir_empty", 1)),
                              reaction_sum=g.attrs["reaction_sum"],
                              contact_iterations=int(g["solver"].attrs["contact_iterations"]))
                 self.stages.append(stage)
@@ -718,6 +748,47 @@ def check_rpim_bend(cfrd, work):
     return r, f"converged; RPIM = LINEAR {e:.0e} across a bend of {bend:.0e} rad"
 
 
+def slab_pressure_bound(stage, toml=os.path.join(runner.ROOT, "inputs", "tianshengqiao-i.toml")):
+    """The Tianshengqiao-I slab's pressure bound at each slave node's elevation y: the water
+    over it (gamma_w 9.81, the stage's reservoir level) plus the slab's own weight across its
+    thickness t = t0 + rate (crest - y) (the geometry file's [slab], unit weight 24)."""
+    with open(toml, "rb") as fh:
+        g = tomllib.load(fh)
+    slab, crest = g["slab"], g["section"]["crest_elevation"]["value"]
+    y = stage["c_y"]
+    level = -np.inf if stage["reservoir_empty"] else stage["water_level"]
+    t = slab["t0"]["value"] + slab["rate"]["value"] * (crest - y)
+    return 9.81 * np.maximum(level - y, 0.0) + slab["unit_weight"]["value"] * t
+
+
+def check_rpim_x1(cfrd, work, name, deck, balance):
+    """rpim-x1 (midpoint) and rpim-x1-newton: all 45 stages, no NaN, the contact pressure at
+    every slave node but the toe face's two below 10 times the water and slab-weight bound at
+    its elevation (slab_pressure_bound), with Newton the balance to 1e-8 at every stage."""
+    r = Run(cfrd, work, deck)
+    if not common(name, r, 0):
+        return r, "did not run"
+    check(name + "/stages", len(r.stages) == 45, f"{len(r.stages)} stages of 45 completed")
+    worst, at, toe = 0.0, 0, 0.0
+    for k, stage in enumerate(r.stages, 1):
+        p, away = -stage["c_sigma_n"], np.argsort(stage["c_y"])[2:]
+        ratio = float(np.max(p[away] / slab_pressure_bound(stage)[away]))
+        worst, at = max((worst, at), (ratio, k))
+        toe = max(toe, float(np.max(p)))
+    check(name + "/pressure-bound", worst <= 10.0, f"contact pressure away from the toe face "
+          f"(every slave node but the lowest two) up to {worst:.2f} times gamma_w (H - y) + "
+          f"gamma_c t(y) (stage {at}; 10)")
+    outcome = f"completes 45 stages; pressure up to {worst:.2f} x the water + slab weight " \
+              f"bound away from the toe, {toe / 1000:.0f} MPa at the toe (reported)"
+    if balance:
+        e = max(float(np.max(np.abs(t["reaction_sum"] + t["applied"])) /
+                      np.max(np.abs(t["applied"]))) for t in r.stages)
+        check(name + "/balance", e <= 1e-8, f"reactions against the applied loads "
+              f"(statics), the largest over the stages: {e:.1e} (1e-8)")
+        outcome += f"; balance {e:.0e}"
+    return r, outcome
+
+
 CASES = [("liftoff", "full lift-off of the slab and re-closure", check_liftoff),
          ("long-slip", "slip of 3 master element lengths", check_long_slip),
          ("contrast", "kn / E_cushion = 1e6, E_slab / E_cushion = 1e5", lambda c, w: column_check(
@@ -737,7 +808,11 @@ CASES = [("liftoff", "full lift-off of the slab and re-closure", check_liftoff),
          ("fine-smooth", "fine slave, 16 faces on one master face, linear load, mu 0 and "
           "0.5", check_fine_smooth),
          ("rpim-bend", "RPIM master face placed in two layers (a bend at the boundary)",
-          check_rpim_bend)]
+          check_rpim_bend),
+         ("rpim-x1", "Tianshengqiao-I contact deck at x1, SEARCH RPIM, midpoint",
+          lambda c, w: check_rpim_x1(c, w, "rpim-x1", "rpim-x1.dat", False)),
+         ("rpim-x1-newton", "the same deck with Newton to 1e-10",
+          lambda c, w: check_rpim_x1(c, w, "rpim-x1-newton", "rpim-x1-newton.dat", True))]
 
 
 def main(argv=None):
