@@ -199,17 +199,20 @@ def case_fine_smooth():
     """Pressures that do not alternate (issue 20): the fine slave on a coarse, smooth,
     one-piece foundation under a smoothly varying pressure, frictionless (the slab's bottom
     left node held horizontally: a mechanism otherwise, its reaction zero) and with friction
-    (held by friction alone)."""
+    (held by friction alone); and the friction case on a foundation of two elements
+    (fine-smooth-two-faces, 32 slave faces), whose pressure departs from the line at the
+    master node between them (reported, not asserted: docs/theory.md section 14)."""
     decks = {}
-    for name, mu in (("fine-smooth.dat", 0.0), ("fine-smooth-friction.dat", FINE_MU)):
-        d, sg = fine_slave(f"hard case: fine slave, one-face foundation, linear load, mu {mu}",
-                           faces=1, nx=SMOOTH_NX)
+    for name, mu, faces in (("fine-smooth.dat", 0.0, 1), ("fine-smooth-friction.dat", FINE_MU, 1),
+                            ("fine-smooth-two-faces.dat", FINE_MU, 2)):
+        d, sg = fine_slave(f"hard case: fine slave, {faces}-face foundation, linear load, "
+                           f"mu {mu}", faces=faces, nx=faces * SMOOTH_NX)
         d.contact[-1] = d.contact[-1].replace(f"{FINE_MU!r}, 0.0, MORTAR", f"{mu!r}, 0.0, MORTAR")
         d.fix([d.base_top[0], d.base_top[-1]], 1, 0)        # the foundation's sides on rollers
         if mu == 0.0:
             d.fix([sg[0][0]], 1, 0)
-        p = [SMOOTH_P[0] + (SMOOTH_P[1] - SMOOTH_P[0]) * i / SMOOTH_NX
-             for i in range(SMOOTH_NX + 1)]
+        nx = len(d.slab_faces)
+        p = [SMOOTH_P[0] + (SMOOTH_P[1] - SMOOTH_P[0]) * i / nx for i in range(nx + 1)]
         d.loads[""] = [f"&PRESSURE, {e}, 3, {p[i]!r}, {p[i + 1]!r}"
                        for i, e in enumerate(d.slab_faces)]
         d.stages = ["&LOAD, , 2, , pressed by 100-25 kPa"]
@@ -528,18 +531,19 @@ def check_fine_smooth(cfrd, work):
     contact is that load (up to the geometry's update), no closed node slips."""
     out = []
     load = (SMOOTH_P[0] + SMOOTH_P[1]) / 2 * 4.0               # closed form: 250 kN/m
-    for name, deck in (("fine-smooth", "fine-smooth.dat"),
-                       ("fine-smooth-friction", "fine-smooth-friction.dat")):
-        r, s = finished(cfrd, work, name, deck)
+    for name, faces in (("fine-smooth", 1), ("fine-smooth-friction", 1),
+                        ("fine-smooth-two-faces", 2)):
+        r, s = finished(cfrd, work, name, name + ".dat")
         if s is None:
             return r, "did not run"
         p, q, st, w, o = surface_profile(s)
         d2 = np.abs(p[:-2] - 2 * p[1:-1] + p[2:]) / p.max()
-        check(name + "/second-difference", d2.max() <= 0.05 and np.all(st != 0),
-              f"|p_(i-1) - 2 p_i + p_(i+1)| at the {len(d2)} interior slave nodes up to "
-              f"{d2.max():.4f} of the peak {p.max():.2f} kPa (issue 20: 0.05; the load is "
-              f"linear, the master straight); {int(np.sum(st != 0))} of {len(st)} closed")
-        fy = float(s["reaction"][:2, 1].sum())        # the foundation's base: nodes 1, 2
+        if faces == 1:
+            check(name + "/second-difference", d2.max() <= 0.05 and np.all(st != 0),
+                  f"|p_(i-1) - 2 p_i + p_(i+1)| at the {len(d2)} interior slave nodes up to "
+                  f"{d2.max():.4f} of the peak {p.max():.2f} kPa (issue 20: 0.05; the load is "
+                  f"linear, the master straight); {int(np.sum(st != 0))} of {len(st)} closed")
+        fy = float(s["reaction"][:faces + 1, 1].sum())     # the foundation's base nodes
         e_base = abs(fy - load) / load
         # the couplings are built at the deformed coordinates of the increment's start:
         # lengths and normals move by the slave faces' strain and rotation (squared)
@@ -554,8 +558,10 @@ def check_fine_smooth(cfrd, work):
               f"against it {e_n:.1e} (the faces' strain + rotation^2, {bound:.1e})"
               + (f"; {slips} closed nodes slip (no tangential load: stick)"
                  if "friction" in name else ""))
-        out.append(f"{name}: second difference {d2.max():.3f} of the peak, normal force "
-                   f"{e_n:.0e}")
+        at = float(s["c_x"][o][1 + int(np.argmax(d2))])
+        out.append(f"{name}: second difference {d2.max():.3f} of the peak (x {at:g} m"
+                   + (", the master node: reported)" if faces > 1 else ")")
+                   + f", normal force {e_n:.0e}")
     return r, "converged; " + "; ".join(out)
 
 
@@ -633,8 +639,8 @@ CASES = [("liftoff", "full lift-off of the slab and re-closure", check_liftoff),
          ("incipient-newton", "the same deck with Newton to 1e-10", check_incipient_newton),
          ("fine-stick", "fine slave on a coarse master pushed by mu N / 2", check_fine_stick),
          ("fine-slip", "fine slave on a coarse master dragged", check_fine_slip),
-         ("fine-smooth", "fine slave, 16 faces on one master face, linear load, mu 0 and "
-          "0.5", check_fine_smooth),
+         ("fine-smooth", "fine slave, 16 faces per master face, linear load, mu 0 and 0.5 "
+          "on one face, 0.5 on two", check_fine_smooth),
          ("rpim-bend", "RPIM master face placed in two layers (a bend at the boundary)",
           check_rpim_bend),
          ("rpim-x1", "Tianshengqiao-I contact deck at x1, SEARCH RPIM, midpoint",
