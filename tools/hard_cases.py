@@ -12,74 +12,16 @@ iterations per case).
 """
 import math
 import os
-import shutil
 import sys
+import tomllib
 
-import h5py
 import numpy as np
 
-from cfrdtools import results, runner
-from cfrdtools.checks import Checks, parser
-from cfrdtools.decks import free
-
-DECKS = os.path.join(runner.ROOT, "test", "hard_cases")
-
-
-class Deck:
-    """A deck of free-format cards (docs/cards.md section 1)."""
-
-    def __init__(self, title):
-        self.title = title
-        self.nodes, self.elems = [], []      # (x, y); (n1..n4, mat, group, type)
-        self.materials, self.boundary, self.loads = [], [], {"": []}
-        self.contact, self.interface, self.reservoir, self.stages = [], [], [], []
-        self.control = None
-
-    def rect(self, x0, y0, w, h, nx, ny, mat, group, etype=""):
-        """A block of nx x ny quads, its own nodes; returns (node grid [j][i], elem grid)."""
-        first = len(self.nodes) + 1
-        self.nodes += [(x0 + w * i / nx, y0 + h * j / ny) for j in range(ny + 1)
-                       for i in range(nx + 1)]
-        grid = [[first + j * (nx + 1) + i for i in range(nx + 1)] for j in range(ny + 1)]
-        elems = []
-        for j in range(ny):
-            for i in range(nx):
-                a = grid[j][i]
-                self.elems.append((a, a + 1, a + nx + 2, a + nx + 1, mat, group, etype))
-            elems.append(list(range(len(self.elems) - nx + 1, len(self.elems) + 1)))
-        return grid, elems
-
-    def fix(self, nodes, ix, iy, ux=None, uy=None):
-        self.boundary += [f"&{n}, {n}, 1, {ix}, {iy}, {'' if ux is None else repr(ux)}, "
-                          f"{'' if uy is None else repr(uy)}" for n in nodes]
-
-    def text(self):
-        out = [f"* {self.title}", "* written by tools/hard_cases.py --write (issue 9, section 2)",
-               "TITLE     " + self.title[:70]] + (["CONTROL", self.control] if self.control else [])
-        out += ["NODES"] + [f"&{k}, , , {x!r}, {y!r}" for k, (x, y) in enumerate(self.nodes, 1)]
-        out += ["ELEMENTS"] + [f"&{k}, {a}, {b}, {c}, {d}, {m}, 0, 1, {g}, {t}"
-                               for k, (a, b, c, d, m, g, t) in enumerate(self.elems, 1)]
-        out += ["MATERIALS"] + self.materials + ["BOUNDARY"] + self.boundary
-        for name, cards in self.loads.items():
-            out += [("LOADS     " + name).rstrip()] + cards if cards else []
-        for group, cards in (("INTERFACE", self.interface), ("RESERVOIR", self.reservoir),
-                             ("CONTACT", self.contact), ("STAGES", self.stages)):
-            out += [group] + cards if cards else []
-        return "\n".join(out + ["END"]) + "\n"
-
-
-def elastic(k, label, e, nu, gamma=0.0):
-    return [f"&{k}, ELASTIC, {label}", free(e, nu, gamma)]
-
-
-def oedometric(e, nu):
-    """Constrained modulus M = E (1 - nu) / ((1 + nu)(1 - 2 nu)) (plane strain, ux = 0)."""
-    return e * (1 - nu) / ((1 + nu) * (1 - 2 * nu))
-
-
-def pressures(elements, p, face=3):
-    return [f"&PRESSURE, {e}, {face}, {p!r}, {p!r}" for e in elements]
-
+from cfrdtools import runner
+from cfrdtools.checks import parser
+from cfrdtools.hardcase import (DECKS, Deck, Derived, Generated, Run, balance_check, check,
+                                common, diagnostic, elastic, finished, oedometric, pressures,
+                                rel)
 
 # Slab on a cushion block, flat (liftoff, drawdown, mechanism): block 4 x 1 m (4 x 2 quads),
 # slab 4 x 0.25 m (8 x 1 quads, non-matching 2 : 1), slab bottom = slave.
@@ -218,16 +160,17 @@ def case_no_converge():
 FINE_MU, FINE_P, FINE_NX = 0.5, 100.0, 32
 
 
-def fine_slave(title):
+def fine_slave(title, faces=2, nx=FINE_NX):
     d = Deck(title)
     d.materials = elastic(1, "foundation", *CUSHION[:2]) + elastic(2, "slab", *SLAB[:2])
-    bg, be = d.rect(0.0, 0.0, 4.0, 1.0, 2, 1, 1, "BASE")
-    sg, se = d.rect(0.0, 1.0, 4.0, 0.25, FINE_NX, 1, 2, "SLAB")
+    bg, be = d.rect(0.0, 0.0, 4.0, 1.0, faces, 1, 1, "BASE")
+    sg, se = d.rect(0.0, 1.0, 4.0, 0.25, nx, 1, 2, "SLAB")
     d.fix(bg[0], 1, 1)
     d.loads[""] = pressures(se[0], FINE_P)
     d.contact = [f"&SURFACE, SLABBOT, {se[0][0]}, 1, {len(se[0]) - 1}, 1",
                  f"&SURFACE, BASETOP, {be[-1][0]}, 3, {len(be[-1]) - 1}, 1",
                  f"&PAIR, SLABBOT, BASETOP, {FINE_MU!r}, 0.0, MORTAR"]
+    d.base_top, d.slab_faces = bg[-1], se[0]
     return d, sg
 
 
@@ -243,6 +186,38 @@ def case_fine_slave():
     slip.fix([sg[0][0], sg[1][0]], 1, 0, ux=0.05)
     slip.stages = ["&LOAD, , 5, , pressed and dragged 5 cm"]
     return {"fine-stick.dat": stick, "fine-slip.dat": slip}
+
+
+# The issue-20 pressure criterion where it is meaningful: a stiff slab of 16 faces (the
+# fine-stick slab's) on a foundation of ONE element (16 slave faces per master face), one
+# smooth piece (base fixed, sides on rollers, nothing staged), under a linearly varying
+# pressure (100 kPa at x = 0 to 25 kPa at x = 4 m, the shape of water on a face).
+SMOOTH_P, SMOOTH_NX = (100.0, 25.0), 16
+
+
+def case_fine_smooth():
+    """Pressures that do not alternate (issue 20): the fine slave on a coarse, smooth,
+    one-piece foundation under a smoothly varying pressure, frictionless (the slab's bottom
+    left node held horizontally: a mechanism otherwise, its reaction zero) and with friction
+    (held by friction alone); and the friction case on a foundation of two elements
+    (fine-smooth-two-faces, 32 slave faces), whose pressure departs from the line at the
+    master node between them (reported, not asserted: docs/theory.md section 14)."""
+    decks = {}
+    for name, mu, faces in (("fine-smooth.dat", 0.0, 1), ("fine-smooth-friction.dat", FINE_MU, 1),
+                            ("fine-smooth-two-faces.dat", FINE_MU, 2)):
+        d, sg = fine_slave(f"hard case: fine slave, {faces}-face foundation, linear load, "
+                           f"mu {mu}", faces=faces, nx=faces * SMOOTH_NX)
+        d.contact[-1] = d.contact[-1].replace(f"{FINE_MU!r}, 0.0, MORTAR", f"{mu!r}, 0.0, MORTAR")
+        d.fix([d.base_top[0], d.base_top[-1]], 1, 0)        # the foundation's sides on rollers
+        if mu == 0.0:
+            d.fix([sg[0][0]], 1, 0)
+        nx = len(d.slab_faces)
+        p = [SMOOTH_P[0] + (SMOOTH_P[1] - SMOOTH_P[0]) * i / nx for i in range(nx + 1)]
+        d.loads[""] = [f"&PRESSURE, {e}, 3, {p[i]!r}, {p[i + 1]!r}"
+                       for i, e in enumerate(d.slab_faces)]
+        d.stages = ["&LOAD, , 2, , pressed by 100-25 kPa"]
+        decks[name] = d
+    return decks
 
 
 def case_rpim_bend():
@@ -283,21 +258,6 @@ def case_rpim_bend():
     return decks
 
 
-class Derived:
-    """A deck made from a committed one by replacing lines (text() as Deck's)."""
-
-    def __init__(self, name, header, replace):
-        self.name, self.header, self.replace = name, header, replace
-
-    def text(self):
-        text = open(os.path.join(DECKS, self.name)).read()
-        for old, new in self.replace:
-            if old not in text:
-                raise SystemExit(f"{self.name}: no line {old!r} to replace")
-            text = text.replace(old, new)
-        return self.header + text
-
-
 def case_incipient_newton():
     """incipient-slip.dat (the Tianshengqiao-I fine slab, 64 / 64 / 32 slave faces per phase
     on the x1 body, midpoint) solved by Newton to 1e-10 (the CONTROL line of
@@ -309,72 +269,21 @@ def case_incipient_newton():
         [(control, control[:-2] + "31.0000E-10   30\n")])}
 
 
+def case_rpim_x1():
+    """The Tianshengqiao-I contact deck at x1 with the master curve by RPIM (the paper's Step
+    3; rpim-x1 of the hard decks below), midpoint and Newton to 1e-10."""
+    return {f"rpim-x1{tag}.dat": Generated(
+        f"* tools/tianshengqiao.py --refine 1 --interface contact --solver {solver}, SEARCH "
+        "RPIM (written by tools/hard_cases.py --write, issue 20)\n", "--refine", 1,
+        "--interface", "contact", "--solver", solver)
+        for tag, solver in (("", "midpoint"), ("-newton", "newton"))}
+
+
 CASE_DECKS = (case_liftoff, case_long_slip, lambda: {"contrast.dat": column(
     "hard case: kn / E = 1e6, E slab / E cushion = 1e5", "JOINT")}, lambda: {
     "thin-0001.dat": column("hard case: thin layer of aspect ratio 0.001", "THIN", 0.001)},
     case_rockfill, case_drawdown, case_mechanism, case_no_converge, case_rpim_bend,
-    case_fine_slave, case_incipient_newton)
-
-
-class Run:
-    """One cfrd run of a deck copied into the work directory: exit status, stderr, and per
-    stage of its results (or of DECK.incomplete.h5) the datasets the checks read."""
-
-    def __init__(self, cfrd, workdir, name, earlier=None):
-        self.deck = shutil.copy(os.path.join(DECKS, name), os.path.join(workdir, name))
-        self.h5, self.incomplete = self.deck[:-4] + ".h5", self.deck[:-4] + ".incomplete.h5"
-        for path in (self.h5, self.incomplete):
-            if os.path.exists(path):
-                os.remove(path)
-        if earlier is not None:       # the results of an earlier run, to be left untouched
-            open(self.h5, "wb").write(earlier)
-        run = runner.run(os.path.abspath(cfrd), os.path.abspath(self.deck), check=False)
-        self.status, self.stderr = run.returncode, run.stderr.strip()
-        self.stages, self.nonfinite = [], []
-        path = self.h5 if self.status == 0 else self.incomplete
-        if not os.path.exists(path):
-            return
-        with h5py.File(path, "r") as f:
-            f.visititems(self._finite)
-            for g in results.stages(f):
-                stage = {k: g[k][...] for k in ("displacement", "reaction", "stress_level",
-                                                "principal", "stress_gauss")}
-                stage.update({"c_" + k: g["contact"][k][...] for k in g.get("contact", {})})
-                stage.update(cutbacks=int(g.attrs["cutbacks"]), applied=g.attrs["applied_load"],
-                             reaction_sum=g.attrs["reaction_sum"],
-                             contact_iterations=int(g["solver"].attrs["contact_iterations"]))
-                self.stages.append(stage)
-
-    def _finite(self, name, obj):
-        if isinstance(obj, h5py.Dataset) and obj.dtype.kind == "f" and \
-                not np.all(np.isfinite(obj[...])):
-            self.nonfinite.append(name)
-        self.nonfinite += [f"{name}@{key}" for key, value in obj.attrs.items()
-                           if np.asarray(value).dtype.kind == "f" and
-                           not np.all(np.isfinite(value))]
-
-
-def rel(a, b):
-    """|a - b| / |b| (largest entries)."""
-    a, b = np.asarray(a, float), np.asarray(b, float)
-    return float(np.max(np.abs(a - b)) / max(np.max(np.abs(b)), 1e-300))
-
-
-check = Checks("hard-case")
-
-
-def common(name, run, expect_status):
-    check(name + "/exit", run.status == expect_status, f"exit status {run.status}, expected "
-          f"{expect_status}" + (f" ({run.stderr[:300]})" if run.status != expect_status else ""))
-    check(name + "/finite", not run.nonfinite, "no NaN or Inf in the results" if not
-          run.nonfinite else "not finite: " + ", ".join(run.nonfinite[:5]))
-    return run.status == 0
-
-
-def diagnostic(name, run, words):
-    missing = [w for w in words if w not in run.stderr]
-    check(name + "/diagnostic", not missing, f"the message names {', '.join(words)}" if not
-          missing else f"the message lacks {missing}: {run.stderr[:400]}")
+    case_fine_slave, case_fine_smooth, case_incipient_newton, case_rpim_x1)
 
 
 def check_liftoff(cfrd, work):
@@ -555,13 +464,7 @@ def fine_slab(cfrd, work, name, deck, balance):
     outcome = f"completes 45 stages; shear sign changes {changes} of {pairs} neighbours " \
               f"(stage {at}); pressure second difference on notch-free parts up to " \
               f"{curvature:.2f} of the peak (reported, not asserted)"
-    if balance:
-        e = max(float(np.max(np.abs(t["reaction_sum"] + t["applied"])) /
-                      np.max(np.abs(t["applied"]))) for t in r.stages)
-        check(name + "/balance", e <= 1e-8, f"reactions against the applied loads "
-              f"(statics), the largest over the stages: {e:.1e} (1e-8)")
-        outcome += f"; balance {e:.0e}"
-    return r, outcome
+    return r, outcome + (balance_check(name, r) if balance else "")
 
 
 def check_incipient_slip(cfrd, work):
@@ -570,12 +473,6 @@ def check_incipient_slip(cfrd, work):
 
 def check_incipient_newton(cfrd, work):
     return fine_slab(cfrd, work, "incipient-newton", "incipient-slip-newton.dat", True)
-
-
-def finished(cfrd, work, name, deck):
-    """The run of a deck expected to converge, and its last stage (None if it did not)."""
-    r = Run(cfrd, work, deck)
-    return r, r.stages[-1] if common(name, r, 0) else None
 
 
 def check_fine_stick(cfrd, work):
@@ -615,6 +512,59 @@ def check_fine_slip(cfrd, work):
     return r, f"converged; drag force {e:.0e} from mu N, every closed node slips"
 
 
+def surface_profile(stage):
+    """The slave nodes of a one-surface pair in order along s: pressure p, shear q, status,
+    and the node's tributary length w (half its faces, reference coordinates)."""
+    o = np.argsort(stage["c_s"])
+    xy = np.column_stack([stage["c_x"], stage["c_y"]])[o]
+    faces = np.linalg.norm(np.diff(xy, axis=0), axis=1)
+    w = np.zeros(len(o))
+    w[:-1] += faces / 2
+    w[1:] += faces / 2
+    return -stage["c_sigma_n"][o], stage["c_tau"][o], stage["c_status"][o], w, o
+
+
+def check_fine_smooth(cfrd, work):
+    """fine-smooth (frictionless) and fine-smooth-friction: the issue's criterion, the second
+    difference of the pressure at every interior slave node under 5 % of the peak, and
+    statics: the foundation's base carries the applied load, the total normal force of the
+    contact is that load (up to the geometry's update), no closed node slips."""
+    out = []
+    load = (SMOOTH_P[0] + SMOOTH_P[1]) / 2 * 4.0               # closed form: 250 kN/m
+    for name, faces in (("fine-smooth", 1), ("fine-smooth-friction", 1),
+                        ("fine-smooth-two-faces", 2)):
+        r, s = finished(cfrd, work, name, name + ".dat")
+        if s is None:
+            return r, "did not run"
+        p, q, st, w, o = surface_profile(s)
+        d2 = np.abs(p[:-2] - 2 * p[1:-1] + p[2:]) / p.max()
+        if faces == 1:
+            check(name + "/second-difference", d2.max() <= 0.05 and np.all(st != 0),
+                  f"|p_(i-1) - 2 p_i + p_(i+1)| at the {len(d2)} interior slave nodes up to "
+                  f"{d2.max():.4f} of the peak {p.max():.2f} kPa (issue 20: 0.05; the load is "
+                  f"linear, the master straight); {int(np.sum(st != 0))} of {len(st)} closed")
+        fy = float(s["reaction"][:faces + 1, 1].sum())     # the foundation's base nodes
+        e_base = abs(fy - load) / load
+        # the couplings are built at the deformed coordinates of the increment's start:
+        # lengths and normals move by the slave faces' strain and rotation (squared)
+        u = s["displacement"][s["c_node"][o] - 1]
+        du = np.diff(u, axis=0) / np.diff(s["c_x"][o])[:, None]
+        bound = float(np.max(np.abs(du[:, 0])) + np.max(du[:, 1] ** 2))
+        e_n = abs(float(np.sum(w * p)) - load) / load
+        slips = int(np.sum(st == 2)) if "friction" in name else 0
+        check(name + "/statics", e_base <= 1e-9 and e_n <= bound and slips == 0,
+              f"foundation base reaction {fy:.9f} kN/m against the load (100 + 25) / 2 x 4 m = "
+              f"{load:.0f} (statics): {e_base:.1e} (1e-9); total normal force sum w_j p_j "
+              f"against it {e_n:.1e} (the faces' strain + rotation^2, {bound:.1e})"
+              + (f"; {slips} closed nodes slip (no tangential load: stick)"
+                 if "friction" in name else ""))
+        at = float(s["c_x"][o][1 + int(np.argmax(d2))])
+        out.append(f"{name}: second difference {d2.max():.3f} of the peak (x {at:g} m"
+                   + (", the master node: reported)" if faces > 1 else ")")
+                   + f", normal force {e_n:.0e}")
+    return r, "converged; " + "; ".join(out)
+
+
 def check_rpim_bend(cfrd, work):
     r = Run(cfrd, work, "rpim-bend-rpim.dat")
     ref = Run(cfrd, work, "rpim-bend-linear.dat")
@@ -638,6 +588,41 @@ def check_rpim_bend(cfrd, work):
     return r, f"converged; RPIM = LINEAR {e:.0e} across a bend of {bend:.0e} rad"
 
 
+def slab_pressure_bound(stage, toml=os.path.join(runner.ROOT, "inputs", "tianshengqiao-i.toml")):
+    """The Tianshengqiao-I slab's pressure bound at each slave node's elevation y: the water
+    over it (gamma_w 9.81, the stage's reservoir level) plus the slab's own weight across its
+    thickness t = t0 + rate (crest - y) (the geometry file's [slab], unit weight 24)."""
+    with open(toml, "rb") as fh:
+        g = tomllib.load(fh)
+    slab, crest = g["slab"], g["section"]["crest_elevation"]["value"]
+    y = stage["c_y"]
+    level = -np.inf if stage["reservoir_empty"] else stage["water_level"]
+    t = slab["t0"]["value"] + slab["rate"]["value"] * (crest - y)
+    return 9.81 * np.maximum(level - y, 0.0) + slab["unit_weight"]["value"] * t
+
+
+def check_rpim_x1(cfrd, work, name, deck, balance):
+    """rpim-x1 (midpoint) and rpim-x1-newton: all 45 stages, no NaN, the contact pressure at
+    every slave node but the toe face's two below 10 times the water and slab-weight bound at
+    its elevation (slab_pressure_bound), with Newton the balance to 1e-8 at every stage."""
+    r = Run(cfrd, work, deck)
+    if not common(name, r, 0):
+        return r, "did not run"
+    check(name + "/stages", len(r.stages) == 45, f"{len(r.stages)} stages of 45 completed")
+    worst, at, toe = 0.0, 0, 0.0
+    for k, stage in enumerate(r.stages, 1):
+        p, away = -stage["c_sigma_n"], np.argsort(stage["c_y"])[2:]
+        ratio = float(np.max(p[away] / slab_pressure_bound(stage)[away]))
+        worst, at = max((worst, at), (ratio, k))
+        toe = max(toe, float(np.max(p)))
+    check(name + "/pressure-bound", worst <= 10.0, f"contact pressure away from the toe face "
+          f"(every slave node but the lowest two) up to {worst:.2f} times gamma_w (H - y) + "
+          f"gamma_c t(y) (stage {at}; 10)")
+    outcome = f"completes 45 stages; pressure up to {worst:.2f} x the water + slab weight " \
+              f"bound away from the toe, {toe / 1000:.0f} MPa at the toe (reported)"
+    return r, outcome + (balance_check(name, r) if balance else "")
+
+
 CASES = [("liftoff", "full lift-off of the slab and re-closure", check_liftoff),
          ("long-slip", "slip of 3 master element lengths", check_long_slip),
          ("contrast", "kn / E_cushion = 1e6, E_slab / E_cushion = 1e5", lambda c, w: column_check(
@@ -654,8 +639,14 @@ CASES = [("liftoff", "full lift-off of the slab and re-closure", check_liftoff),
          ("incipient-newton", "the same deck with Newton to 1e-10", check_incipient_newton),
          ("fine-stick", "fine slave on a coarse master pushed by mu N / 2", check_fine_stick),
          ("fine-slip", "fine slave on a coarse master dragged", check_fine_slip),
+         ("fine-smooth", "fine slave, 16 faces per master face, linear load, mu 0 and 0.5 "
+          "on one face, 0.5 on two", check_fine_smooth),
          ("rpim-bend", "RPIM master face placed in two layers (a bend at the boundary)",
-          check_rpim_bend)]
+          check_rpim_bend),
+         ("rpim-x1", "Tianshengqiao-I contact deck at x1, SEARCH RPIM, midpoint",
+          lambda c, w: check_rpim_x1(c, w, "rpim-x1", "rpim-x1.dat", False)),
+         ("rpim-x1-newton", "the same deck with Newton to 1e-10",
+          lambda c, w: check_rpim_x1(c, w, "rpim-x1-newton", "rpim-x1-newton.dat", True))]
 
 
 def main(argv=None):
