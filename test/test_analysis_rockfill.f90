@@ -14,7 +14,8 @@ module test_analysis_rockfill
     use cfrd_duncan_eb, only: eb_params_t, eb_initial_modulus, eb_failure_deviator, &
                               eb_unload_modulus, nu_t_max, eb_tangent, eb_state_t, &
                               eb_stress_state, eb_moduli_gradient
-    use cfrd_material_law, only: eb_parameters, material_update, material_update_tangent
+    use cfrd_material_law, only: eb_parameters, material_update, material_update_tangent, &
+                                 update_substeps, max_substeps
     use cfrd_test_models, only: new_model, elastic_material
     use cfrd_model, only: plane_strain
     implicit none
@@ -46,7 +47,9 @@ contains
                 new_unittest('midpoint_second_order_euler_first', test_rates), &
                 new_unittest('newton_triaxial_with_unloading', test_newton), &
                 new_unittest('eb_consistent_tangent', test_eb_tangent), &
-                new_unittest('newton_quadratic_rate', test_newton_rate) &
+                new_unittest('newton_quadratic_rate', test_newton_rate), &
+                new_unittest('substep_update_kondner', test_substep_update), &
+                new_unittest('substep_consistent_tangent', test_substep_tangent) &
                 ]
     end subroutine collect_analysis_rockfill
 
@@ -506,4 +509,121 @@ contains
             end do
         end function smooth_branch
     end subroutine test_newton_rate
+    !> The sub-stepped E-B update (Newton's, docs/theory.md section 9 "Sub-steps") against
+    !> the law's exact response: IIIB with Kb = 1 kPa, so that the lower Poisson bound holds
+    !> everywhere (Bt = Et/3, nu_t = 0, D diagonal): a purely axial strain increment from the
+    !> isotropic state at sigma3 = 500 kPa is then a drained triaxial test at constant
+    !> sigma3 (d sigma_r = Et d eps_r = 0 exactly), whose deviator follows Kondner's
+    !> hyperbola q = Ei eps1 / (1 + Rf Ei eps1 / qf) (Duncan & Chang 1970; section 8).
+    !> eps1 is that of q = 0.9 qf, taken in one increment: with one step the midpoint rule
+    !> is past its limit point and misses q by more than half; with the sub-steps of
+    !> update_substeps (more than one) q within 2 %; the error falls as n^-2 (order >= 1.8
+    !> from 16 to 32 sub-steps, the midpoint rule's) and is below 1e-3 of q at 64.
+    subroutine test_substep_update(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(material_t) :: mat
+        type(eb_params_t) :: p
+        real(dp) :: qf, q1, eps1, sig0(4), de(4), new(4), mid(4), d0(4, 4)
+        real(dp) :: ei, history(2), err(3), order
+        integer :: k, counts(3)
+        mat = table3_material(3)
+        mat%k_bulk = 1.0_dp
+        p = eb_parameters(mat, pa)
+        qf = eb_failure_deviator(p, 500.0_dp)
+        q1 = 0.9_dp*qf
+        ei = eb_initial_modulus(p, 500.0_dp)
+        eps1 = q1/(ei*(1.0_dp - p%rf*q1/qf))
+        ! tension positive, (r, z, theta, rz): the axial strain is compressive
+        sig0 = [-500.0_dp, -500.0_dp, -500.0_dp, 0.0_dp]
+        de = [0.0_dp, -eps1, 0.0_dp, 0.0_dp]
+        history = 0.0_dp
+        call eb_tangent(p, sig0, 0.0_dp, d0)
+        call material_update(mat, pa, sig0, [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], history, de, &
+                             .true., new, mid)
+        write (*, '(a,es10.3)') '  one step: q/q_ref - 1 =', (-new(2) - 500.0_dp)/q1 - 1.0_dp
+        call check(error, abs((-new(2) - 500.0_dp)/q1 - 1.0_dp) > 0.5_dp, &
+                   'one midpoint step should miss q by more than half (limit point)')
+        if (allocated(error)) return
+        counts = [update_substeps(mat, pa, sig0, history, de, d0), 16, 32]
+        call check(error, counts(1) > 1 .and. counts(1) <= max_substeps, &
+                   'update_substeps should ask for sub-steps here')
+        if (allocated(error)) return
+        do k = 1, 3
+            call material_update(mat, pa, sig0, [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], history, &
+                                 de, .true., new, mid, substeps=counts(k))
+            err(k) = abs((-new(2) - 500.0_dp)/q1 - 1.0_dp)
+            write (*, '(a,i3,a,es10.3,a,es10.3)') '  sub-steps', counts(k), &
+                ': |q/q_ref - 1| =', err(k), ', sigma_r + 500 =', new(1) + 500.0_dp
+            call check(error, abs(new(1) + 500.0_dp) <= 1.0e-9_dp*q1, &
+                       'sigma_r stays at the cell pressure')
+            if (allocated(error)) return
+        end do
+        call check(error, err(1) <= 0.02_dp, 'q with update_substeps sub-steps within 2 %')
+        if (allocated(error)) return
+        order = log(err(2)/err(3))/log(2.0_dp)
+        call check(error, order >= 1.8_dp, 'sub-stepped midpoint: error order from 16 to 32')
+        if (allocated(error)) return
+        call material_update(mat, pa, sig0, [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], history, de, &
+                             .true., new, mid, substeps=64)
+        call check(error, -new(2) - 500.0_dp, q1, 'q with 64 sub-steps', rel=1.0e-3_dp)
+    end subroutine test_substep_update
+
+    !> Newton's tangent of the sub-stepped E-B update (the chain rule through the sub-steps,
+    !> material_update_tangent with `substeps`) against central differences of the update
+    !> with the same number of sub-steps: a fresh point loaded to near failure in one
+    !> increment (plane strain), a stressed point loaded further, and a point that reloads
+    !> through the unloading transition from below 0.75 SS_max (the case the transition
+    !> part of the sub-step count is for); update_substeps asks for more than one sub-step
+    !> in each. 1e-6 of the largest entry, as eb_consistent_tangent.
+    subroutine test_substep_tangent(error)
+        type(error_t), allocatable, intent(out) :: error
+        integer, parameter :: ncase = 3
+        character(len=*), parameter :: names(ncase) = [character(len=24) :: &
+            'fresh point', 'stressed point', 'reloading']
+        real(dp), parameter :: s0(4, ncase) = reshape([ &
+            -50.0_dp, -50.0_dp, -50.0_dp, 0.0_dp, &
+            -300.0_dp, -700.0_dp, -300.0_dp, 50.0_dp, &
+            -400.0_dp, -650.0_dp, -420.0_dp, 30.0_dp], [4, ncase])
+        real(dp), parameter :: de0(4, ncase) = reshape([ &
+            1.0e-3_dp, -4.0e-3_dp, 0.0_dp, 1.0e-3_dp, &
+            -1.0e-3_dp, -2.0e-2_dp, 0.0_dp, 4.0e-3_dp, &
+            2.0e-4_dp, -1.5e-3_dp, 0.0_dp, -2.0e-4_dp], [4, ncase])
+        type(material_t) :: mat
+        type(eb_params_t) :: p
+        real(dp) :: history(2), c(4, 4), fd(4, 4), plus(4), minus(4), mid(4), de(4), h
+        real(dp) :: d0(4, 4)
+        integer :: k, j, nsub
+        mat = table3_material(3)
+        p = eb_parameters(mat, pa)
+        do k = 1, ncase
+            history = 0.0_dp
+            ! reloading: the start below 0.75 of a past maximum that the increment passes
+            if (k == 3) history(1) = eb_stress_state(p, s0(:, k))/0.6_dp
+            call eb_tangent(p, s0(:, k), history(1), d0)
+            nsub = update_substeps(mat, pa, s0(:, k), history, de0(:, k), d0)
+            write (*, '(a,a,i3,a)') '  ', names(k), nsub, ' sub-steps'
+            call check(error, nsub > 1, 'sub-step tangent, '//trim(names(k))// &
+                       ': update_substeps asks for one step only')
+            if (allocated(error)) return
+            call material_update_tangent(mat, pa, s0(:, k), [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], &
+                                         history, de0(:, k), c, substeps=nsub)
+            h = 1.0e-5_dp*maxval(abs(de0(:, k)))
+            do j = 1, 4
+                de = de0(:, k)
+                de(j) = de(j) + h
+                call material_update(mat, pa, s0(:, k), [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], &
+                                     history, de, .true., plus, mid, substeps=nsub)
+                de(j) = de(j) - 2.0_dp*h
+                call material_update(mat, pa, s0(:, k), [0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], &
+                                     history, de, .true., minus, mid, substeps=nsub)
+                fd(:, j) = (plus - minus)/(2.0_dp*h)
+            end do
+            write (*, '(a,es10.3)') '    max |C - FD| / max |FD| =', &
+                maxval(abs(c - fd))/maxval(abs(fd))
+            call check(error, maxval(abs(c - fd)) <= 1.0e-6_dp*maxval(abs(fd)), &
+                       'sub-step tangent, '//trim(names(k))//': analytic and central '// &
+                       'differences differ')
+            if (allocated(error)) return
+        end do
+    end subroutine test_substep_tangent
 end module test_analysis_rockfill

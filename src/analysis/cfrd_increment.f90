@@ -12,7 +12,7 @@ module cfrd_increment
     use cfrd_model, only: model_t, solver_euler, solver_newton
     use cfrd_results, only: stage_result_t
     use cfrd_material_law, only: is_linear, update_history, material_update, &
-                                 material_update_tangent, material_tangent
+                                 material_update_tangent, material_tangent, update_substeps
     use cfrd_assembly, only: element_box_t, dof_map_t, assemble_tangent, internal_forces, &
                              gather
     use cfrd_contact, only: contact_t, contact_geometry
@@ -107,6 +107,7 @@ contains
         real(dp), allocatable :: du(:, :), stress_end(:, :, :), stress_mid(:, :, :)
         real(dp) :: residual, load_norm, recent, t0, floor
         real(dp), allocatable :: rhs_stress(:, :, :), d_start(:, :, :, :), f_end(:, :)
+        integer, allocatable :: substeps(:, :), grown(:, :)
         integer :: iteration
         type(contact_t), allocatable :: contact
         logical :: changed, searched
@@ -159,11 +160,22 @@ contains
             call integrate_stress(model, library, state, du, stress_end, stress_mid, .true., &
                                   creep_share=1.0_dp)
         end if
+        if (model%solver == solver_newton) then
+            ! The start tangents D(sigma) of the stress update, the same in every iteration,
+            ! and the stress update in sub-steps where one step would pass the limit point
+            ! of the midpoint rule (docs/theory.md section 9, "Sub-steps").
+            d_start = start_tangents(model, library, state)
+            ! The counts for twice the predictor's increment: the corrections often take a
+            ! point's strain increment past the predictor's [choice].
+            substeps = substep_counts(model, library, state, 2.0_dp*du, d_start)
+            if (any(substeps > 1)) &
+                call integrate_stress(model, library, state, du, stress_end, stress_mid, &
+                                      .true., creep_share=1.0_dp, d_start=d_start, &
+                                      substeps=substeps)
+        end if
         residual = out_of_balance(model, library, state%active, stress_end, f_target, &
                                   system%dofmap, contact, roundoff=floor, force=f_end)/load_norm
         if (model%solver == solver_newton) then
-            ! The start tangents D(sigma) of the stress update, the same in every iteration.
-            d_start = start_tangents(model, library, state)
             result%newton_residuals = [residual]
             iteration = 0
             recent = huge(1.0_dp)
@@ -195,11 +207,23 @@ contains
                                      'force at '//worst_node()//')', numerical_error)
                     return
                 end if
+                ! More sub-steps where du now asks for them: the stresses and the residual
+                ! of du again with those (the update is another function of du now).
+                grown = substep_counts(model, library, state, du, d_start, substeps)
+                if (any(grown /= substeps)) then
+                    substeps = grown
+                    call integrate_stress(model, library, state, du, stress_end, stress_mid, &
+                                          .true., creep_share=1.0_dp, d_start=d_start, &
+                                          substeps=substeps)
+                    residual = out_of_balance(model, library, state%active, stress_end, &
+                                              f_target, system%dofmap, contact, &
+                                              roundoff=floor, force=f_end)/load_norm
+                end if
                 ! The consistent tangent: the derivative of the midpoint stress update with
                 ! respect to the strain increment at each point (material_update_tangent).
                 call factorise_at(model, library, state, stress_mid, system, result, context, &
-                                  error, consistent_tangents(model, library, state, du, d_start), &
-                                  contact)
+                                  error, consistent_tangents(model, library, state, du, d_start, &
+                                                             substeps), contact)
                 if (allocated(error)) return
                 block
                     real(dp), allocatable :: ddu(:, :), du_try(:, :), stress_try(:, :, :), &
@@ -219,7 +243,7 @@ contains
                         du_try = du + step*ddu
                         call integrate_stress(model, library, state, du_try, stress_try, &
                                               stress_mid, .true., creep_share=1.0_dp, &
-                                              d_start=d_start)
+                                              d_start=d_start, substeps=substeps)
                         trial = out_of_balance(model, library, state%active, stress_try, &
                                                f_target, system%dofmap, contact, &
                                                roundoff=floor, force=f_try)/load_norm
@@ -312,7 +336,7 @@ contains
     !> the midpoint when `midpoint` (docs/theory.md sections 9 and 12). `stress_mid`
     !> returns the half-way stresses of that integration.
     subroutine integrate_stress(model, library, state, du, stress_end, stress_mid, midpoint, &
-                                stress, creep_share, d_start)
+                                stress, creep_share, d_start, substeps)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(in) :: state
@@ -328,6 +352,8 @@ contains
         !> (4, 4, ngauss, nelem) the tangents at the start stresses, when the caller has
         !> them (start_tangents)
         real(dp), intent(in), optional :: d_start(:, :, :, :)
+        !> (ngauss, nelem) sub-steps of each point's update (Newton: substep_counts)
+        integer, intent(in), optional :: substeps(:, :)
         real(dp) :: strain(4, ngauss), start(4)
         integer :: e, ng, ig
         logical :: creeping
@@ -347,7 +373,13 @@ contains
             do ig = 1, ng
                 start = stress_end(:, ig, e)
                 if (creeping) start = start - 0.5_dp*creep_share*state%creep_stress(:, ig, e)
-                if (present(d_start)) then
+                if (present(substeps)) then
+                    call material_update(model%materials(model%mesh%material(e)), model%pa, &
+                                         start, state%strain(:, ig, e), &
+                                         state%history(:, ig, e), strain(:, ig), midpoint, &
+                                         stress_end(:, ig, e), stress_mid(:, ig, e), &
+                                         d_start(:, :, ig, e), substeps(ig, e))
+                else if (present(d_start)) then
                     call material_update(model%materials(model%mesh%material(e)), model%pa, &
                                          start, state%strain(:, ig, e), &
                                          state%history(:, ig, e), strain(:, ig), midpoint, &
@@ -409,11 +441,12 @@ contains
     !> d sigma_end / d(delta eps) of the stress update at every point of the active elements
     !> (cfrd_material_law: material_update_tangent), Newton's tangent, from the start
     !> stresses and their tangents d_start (start_tangents).
-    function consistent_tangents(model, library, state, du, d_start) result(c)
+    function consistent_tangents(model, library, state, du, d_start, substeps) result(c)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(in) :: state
         real(dp), intent(in) :: du(:, :), d_start(:, :, :, :)
+        integer, intent(in) :: substeps(:, :)
         real(dp), allocatable :: c(:, :, :, :)
         real(dp) :: strain(4, ngauss)
         integer :: e, ng, ig
@@ -425,10 +458,39 @@ contains
                 call material_update_tangent(model%materials(model%mesh%material(e)), &
                                              model%pa, start_stress(state, ig, e), &
                                              state%strain(:, ig, e), state%history(:, ig, e), &
-                                             strain(:, ig), c(:, :, ig, e), d_start(:, :, ig, e))
+                                             strain(:, ig), c(:, :, ig, e), d_start(:, :, ig, e), &
+                                             substeps(ig, e))
             end do
         end do
     end function consistent_tangents
+
+    !> The sub-steps of each point's stress update over du under Newton
+    !> (cfrd_material_law: update_substeps), at least `floor` (the counts the increment's
+    !> iterations have used so far: they only grow, so that the update stays one smooth
+    !> function of du once they settle).
+    function substep_counts(model, library, state, du, d_start, floor) result(n)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        type(state_t), intent(in) :: state
+        real(dp), intent(in) :: du(:, :), d_start(:, :, :, :)
+        integer, intent(in), optional :: floor(:, :)
+        integer, allocatable :: n(:, :)
+        real(dp) :: strain(4, ngauss)
+        integer :: e, ng, ig
+        allocate (n(ngauss, model%mesh%nelem), source=1)
+        if (present(floor)) n = floor
+        do e = 1, model%mesh%nelem
+            if (.not. state%active(e)) cycle
+            call element_strains(model, library, e, du, strain, ng)
+            do ig = 1, ng
+                n(ig, e) = max(n(ig, e), &
+                               update_substeps(model%materials(model%mesh%material(e)), &
+                                               model%pa, start_stress(state, ig, e), &
+                                               state%history(:, ig, e), strain(:, ig), &
+                                               d_start(:, :, ig, e)))
+            end do
+        end do
+    end function substep_counts
 
     !> |f_target - f_int(stress)| over the free dofs; `roundoff`, the residual that floating
     !> point cannot resolve: 64 eps |sum of the magnitudes of the terms| (the forces of the

@@ -9,7 +9,7 @@ module cfrd_material_law
     use cfrd_model, only: material_t, law_elastic, law_duncan_eb, law_goodman, law_pjoint
     use cfrd_elastic, only: elastic_dmatrix
     use cfrd_duncan_eb, only: eb_params_t, eb_tangent, eb_stress_state, eb_state_t, &
-                              eb_moduli_gradient
+                              eb_moduli_gradient, eb_substeps
     use cfrd_goodman, only: goodman_params_t, goodman_tangent, goodman_update, &
                             goodman_update_tangent
     use cfrd_pjoint, only: pjoint_params_t, pjoint_stress, pjoint_tangent
@@ -18,10 +18,17 @@ module cfrd_material_law
 
     public :: nhistory, material_tangent, material_update, material_update_tangent
     public :: update_history, is_linear, eb_parameters, goodman_parameters, stress_level
+    public :: update_substeps, max_substeps
 
     !> History values per Gauss point. E-B: (1) past maximum of Duncan's stress-state
     !> function, (2) past maximum of the stress level.
     integer, parameter :: nhistory = 2
+    !> Sub-steps of the E-B update under Newton (docs/theory.md section 9, "Sub-steps"): a
+    !> sub-step may take its half-way stress level at most this share of the way to the
+    !> limit point of the one-step midpoint rule [choice] ...
+    real(dp), parameter :: substep_reach = 0.125_dp
+    !> ... with at most this many sub-steps per point and increment [choice].
+    integer, parameter :: max_substeps = 64
 
 contains
 
@@ -87,15 +94,19 @@ contains
     !> sigma + D(sigma + D(sigma) de/2) de, else sigma + D(sigma) de (docs/theory.md
     !> section 9); the Goodman law updates its normal traction exactly and caps the shear
     !> at the Coulomb limit (section 12). stress_mid: the half-way stress. d_start: D(sigma)
-    !> when the caller has it (Newton keeps it over an increment's iterations).
+    !> when the caller has it (Newton keeps it over an increment's iterations). substeps:
+    !> the E-B midpoint update in that many equal sub-steps of de (Newton, update_substeps);
+    !> stress_mid is then the stress half-way along the sub-steps.
     pure subroutine material_update(mat, pa, stress, strain, history, de, midpoint, &
-                                    stress_new, stress_mid, d_start)
+                                    stress_new, stress_mid, d_start, substeps)
         type(material_t), intent(in) :: mat
         real(dp), intent(in) :: pa, stress(4), strain(4), history(nhistory), de(4)
         logical, intent(in) :: midpoint
         real(dp), intent(out) :: stress_new(4), stress_mid(4)
         real(dp), intent(in), optional :: d_start(4, 4)
-        real(dp) :: d(4, 4)
+        integer, intent(in), optional :: substeps
+        real(dp) :: d(4, 4), h(4), mid(4)
+        integer :: nsub, k
         if (mat%law == law_goodman) then
             stress_new = 0.0_dp
             stress_mid = 0.0_dp
@@ -117,6 +128,22 @@ contains
         else
             call material_tangent(mat, pa, stress, strain, history, d)
         end if
+        nsub = 1
+        if (present(substeps) .and. midpoint .and. mat%law == law_duncan_eb) nsub = substeps
+        if (nsub > 1) then
+            ! sigma_k+1 = sigma_k + D(sigma_k + D(sigma_k) h/2) h, h = de / nsub
+            h = de/nsub
+            stress_new = stress
+            do k = 1, nsub
+                if (k > 1) call material_tangent(mat, pa, stress_new, strain, history, d)
+                mid = stress_new + 0.5_dp*matmul(d, h)
+                call material_tangent(mat, pa, mid, strain, history, d)
+                if (2*k - 1 == nsub) stress_mid = mid   ! odd: the middle sub-step's half-way
+                stress_new = stress_new + matmul(d, h)
+                if (2*k == nsub) stress_mid = stress_new   ! even: after half the sub-steps
+            end do
+            return
+        end if
         stress_mid = stress + 0.5_dp*matmul(d, de)
         if (midpoint) call material_tangent(mat, pa, stress_mid, strain + 0.5_dp*de, &
                                             history, d)
@@ -126,22 +153,21 @@ contains
     !> d stress_new / d de of the midpoint update (Newton's tangent; docs/theory.md section
     !> 9, "Consistent tangent"). E-B: with sigma_mid = sigma + D(sigma) de/2 and
     !> stress_new = sigma + D(sigma_mid) de,
-    !>     C = D(sigma_mid) + [d(D(s) de)/ds at s = sigma_mid] D(sigma)/2,
-    !> where D(s) de = Bt tr(de) m + Gt P de (m = (1, 1, 1, 0), P the deviatoric projector
-    !> of section 2, Gt = 3 Bt Et / (9 Bt - Et)) and the moduli's gradients come from
-    !> eb_moduli_gradient; not symmetric in general. The Goodman law differentiates its exact
+    !>     C = D(sigma_mid) + [d(D(s) de)/ds at s = sigma_mid] D(sigma)/2
+    !> (eb_response); with `substeps` the chain rule through the sub-steps of
+    !> material_update. Not symmetric in general. The Goodman law differentiates its exact
     !> update (goodman_update_tangent), with floors that keep the matrix regular where a
     !> joint slips or opens. A linear law's update is linear: C = D. d_start: D(sigma) when
     !> the caller has it.
-    pure subroutine material_update_tangent(mat, pa, stress, strain, history, de, c, d_start)
+    pure subroutine material_update_tangent(mat, pa, stress, strain, history, de, c, d_start, &
+                                            substeps)
         type(material_t), intent(in) :: mat
         real(dp), intent(in) :: pa, stress(4), strain(4), history(nhistory), de(4)
         real(dp), intent(out) :: c(4, 4)
         real(dp), intent(in), optional :: d_start(4, 4)
-        real(dp), parameter :: m(4) = [1.0_dp, 1.0_dp, 1.0_dp, 0.0_dp]
-        real(dp) :: d0(4, 4), mid(4), et, bt, det(4), dbt(4), dgt(4), nine_b_e
-        real(dp) :: pde(4), trace, dsigma(4, 4)
-        integer :: j
+        integer, intent(in), optional :: substeps
+        real(dp) :: d0(4, 4), mid(4), dsigma(4, 4)
+        integer :: nsub
         select case (mat%law)
         case (law_goodman)
             c = 0.0_dp
@@ -157,23 +183,91 @@ contains
             else
                 call eb_tangent(eb_parameters(mat, pa), stress, history(1), d0)
             end if
+            nsub = 1
+            if (present(substeps)) nsub = substeps
+            if (nsub > 1) then
+                c = substep_tangent(eb_parameters(mat, pa), stress, history(1), de, d0, nsub)
+                return
+            end if
             mid = stress + 0.5_dp*matmul(d0, de)
-            call eb_moduli_gradient(eb_parameters(mat, pa), mid, history(1), et, bt, det, dbt)
-            c = elastic_dmatrix(et, (3.0_dp*bt - et)/(6.0_dp*bt))
-            ! d(D(s) de)/ds = m tr(de) dBt^T + (P de) dGt^T
-            nine_b_e = 9.0_dp*bt - et
-            dgt = (27.0_dp*bt**2*det - 3.0_dp*et**2*dbt)/nine_b_e**2
-            trace = de(1) + de(2) + de(3)
-            pde(1:3) = 2.0_dp*de(1:3) - 2.0_dp/3.0_dp*trace
-            pde(4) = de(4)
-            do j = 1, 4
-                dsigma(:, j) = m*trace*dbt(j) + pde*dgt(j)
-            end do
+            call eb_response(eb_parameters(mat, pa), mid, history(1), de, c, dsigma)
             c = c + 0.5_dp*matmul(dsigma, d0)
         case default
             call material_tangent(mat, pa, stress, strain, history, c)
         end select
     end subroutine material_update_tangent
+
+    !> D(s) and g = d(D(s) v)/ds of the E-B law at stress s: with D(s) v = Bt tr(v) m +
+    !> Gt P v (m = (1, 1, 1, 0), P the deviatoric projector of section 2, Gt = 3 Bt Et /
+    !> (9 Bt - Et)), g = m tr(v) dBt^T + (P v) dGt^T, the moduli's gradients from
+    !> eb_moduli_gradient.
+    pure subroutine eb_response(p, s, ss_max, v, d, g)
+        type(eb_params_t), intent(in) :: p
+        real(dp), intent(in) :: s(4), ss_max, v(4)
+        real(dp), intent(out) :: d(4, 4), g(4, 4)
+        real(dp), parameter :: m(4) = [1.0_dp, 1.0_dp, 1.0_dp, 0.0_dp]
+        real(dp) :: et, bt, det(4), dbt(4), dgt(4), nine_b_e, pv(4), trace
+        integer :: j
+        call eb_moduli_gradient(p, s, ss_max, et, bt, det, dbt)
+        d = elastic_dmatrix(et, (3.0_dp*bt - et)/(6.0_dp*bt))
+        nine_b_e = 9.0_dp*bt - et
+        dgt = (27.0_dp*bt**2*det - 3.0_dp*et**2*dbt)/nine_b_e**2
+        trace = v(1) + v(2) + v(3)
+        pv(1:3) = 2.0_dp*v(1:3) - 2.0_dp/3.0_dp*trace
+        pv(4) = v(4)
+        do j = 1, 4
+            g(:, j) = m*trace*dbt(j) + pv*dgt(j)
+        end do
+    end subroutine eb_response
+
+    !> d sigma_n / d de of the E-B midpoint update in n sub-steps h = de/n (material_update):
+    !> with A_k = d sigma_k / d de (A_0 = 0), mid_k = sigma_k + D(sigma_k) h/2 and
+    !> sigma_k+1 = sigma_k + D(mid_k) h,
+    !>     d mid_k = A_k + g(sigma_k, h/2) A_k + D(sigma_k)/(2n),
+    !>     A_k+1 = A_k + g(mid_k, h) d mid_k + D(mid_k)/n       (docs/theory.md section 9).
+    pure function substep_tangent(p, stress, ss_max, de, d0, n) result(a)
+        type(eb_params_t), intent(in) :: p
+        real(dp), intent(in) :: stress(4), ss_max, de(4), d0(4, 4)
+        integer, intent(in) :: n
+        real(dp) :: a(4, 4)
+        real(dp) :: h(4), s(4), mid(4), d(4, 4), g(4, 4), dmid(4, 4), dm(4, 4), gm(4, 4)
+        integer :: k
+        h = de/n
+        s = stress
+        a = 0.0_dp
+        do k = 1, n
+            if (k == 1) then
+                d = d0
+                dmid = d0/(2.0_dp*n)
+            else
+                call eb_response(p, s, ss_max, 0.5_dp*h, d, g)
+                dmid = a + matmul(g, a) + d/(2.0_dp*n)
+            end if
+            mid = s + 0.5_dp*matmul(d, h)
+            call eb_response(p, mid, ss_max, h, dm, gm)
+            a = a + matmul(gm, dmid) + dm/n
+            s = s + matmul(dm, h)
+        end do
+    end function substep_tangent
+
+    !> Sub-steps of the E-B midpoint update over de from `stress` under Newton (docs/theory.md
+    !> section 9, "Sub-steps"): where one step of the midpoint rule would come near its
+    !> limit point (eb_substeps, from the forward Euler prediction with d_start = D(stress)),
+    !> enough equal sub-steps that none does; 1 for the other laws, at most max_substeps.
+    pure integer function update_substeps(mat, pa, stress, history, de, d_start) result(n)
+        type(material_t), intent(in) :: mat
+        real(dp), intent(in) :: pa, stress(4), history(nhistory), de(4), d_start(4, 4)
+        real(dp) :: x
+        n = 1
+        if (mat%law /= law_duncan_eb) return
+        x = eb_substeps(eb_parameters(mat, pa), stress, history(1), &
+                        stress + matmul(d_start, de), substep_reach)
+        if (x >= max_substeps) then
+            n = max_substeps
+        else if (x > 1.0_dp) then
+            n = ceiling(x)
+        end if
+    end function update_substeps
 
     !> Stress level S of a Gauss point (0 for laws without one).
     pure real(dp) function stress_level(mat, pa, stress, history) result(level)

@@ -10,7 +10,7 @@ module cfrd_duncan_eb
 
     public :: eb_params_t, eb_state_t, eb_tangent, eb_stress_state, eb_initial_modulus
     public :: eb_failure_deviator, eb_friction_angle, eb_principal, eb_unload_modulus
-    public :: nu_t_max, eb_linear_moduli, eb_moduli_gradient
+    public :: nu_t_max, eb_linear_moduli, eb_moduli_gradient, eb_substeps
 
     !> Upper bound of the tangent Poisson ratio: Bt <= Et / (3 (1 - 2 nu_t_max)).
     real(dp), parameter :: nu_t_max = 0.49_dp
@@ -111,6 +111,42 @@ contains
         level = stress_level(p, sigma1, sigma3)
         ss = level*sqrt(sqrt(max(sigma3, p%sigma3_floor)/p%pa))
     end function eb_stress_state
+
+    !> How many sub-steps the midpoint update from `stress` to about `trial` (its forward
+    !> Euler prediction, tension positive) needs so that no sub-step takes its half-way
+    !> state more than `reach` of the way to the limit point of the one-step rule
+    !> (docs/theory.md section 9, "Sub-steps"), as a real number (the caller rounds up):
+    !> - loading, the modulus falls as (1 - Rf S)^2: the limit point of one step is at
+    !>   the half-way rise (1 - Rf S_0)/(3 Rf) of S, so n = Rf dS / (2 reach (1 - Rf S_0))
+    !>   with dS the rise of the uncapped stress level from S_0 (capped) to the trial;
+    !> - reloading through the unloading transition (SS_max above the loading threshold,
+    !>   the trial's SS above (1 - transition) SS_max, the start's below SS_max): there the
+    !>   modulus falls from Eur to Et over a rise of transition SS_max, and one step of
+    !>   half-way rise dSS/2 loses its stiffness when (Eur - Et) dSS/2 exceeds
+    !>   Et transition SS_max (Et at the top of the transition, Eur at the start's sigma3):
+    !>   n = (Eur - Et) dSS / (2 transition SS_max Et) / (3 reach).
+    pure real(dp) function eb_substeps(p, stress, ss_max, trial, reach) result(n)
+        type(eb_params_t), intent(in) :: p
+        real(dp), intent(in) :: stress(4), ss_max, trial(4), reach
+        real(dp) :: sigma1, sigma3, s0, rise, ss0, ss1, root4, et_top, eur
+        call eb_principal(stress, sigma1, sigma3)
+        s0 = stress_level(p, sigma1, sigma3)
+        call eb_principal(trial, sigma1, sigma3)
+        rise = max((sigma1 - sigma3)/eb_failure_deviator(p, sigma3), 0.0_dp) - s0
+        n = max(p%rf*rise/(2.0_dp*reach*(1.0_dp - p%rf*s0)), 0.0_dp)
+        if (ss_max <= ss_threshold) return
+        ss0 = eb_stress_state(p, stress)
+        ss1 = eb_stress_state(p, trial)
+        if (ss0 >= ss_max .or. ss1 <= (1.0_dp - transition)*ss_max) return
+        call eb_principal(stress, sigma1, sigma3)
+        root4 = sqrt(sqrt(max(sigma3, p%sigma3_floor)/p%pa))
+        et_top = eb_initial_modulus(p, sigma3)* &
+                 (1.0_dp - p%rf*min(ss_max/root4, p%level_cap))**2
+        eur = eb_unload_modulus(p, sigma3)
+        if (eur <= et_top) return
+        n = max(n, (eur - et_top)*(ss1 - ss0)/(2.0_dp*transition*ss_max*et_top)/ &
+                   (3.0_dp*reach))
+    end function eb_substeps
 
     pure real(dp) function stress_level(p, sigma1, sigma3) result(level)
         type(eb_params_t), intent(in) :: p
