@@ -676,7 +676,7 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
                       fa("CREEP") + "".join(fr(c[k]) for k in ("alpha", "b", "mc", "d", "l"))]
     lines += [fi(SLAB_MATERIAL) + fa("ELASTIC") + "face slab, concrete",
               "".join(fr(geo.v("slab", k)) for k in ("youngs_modulus", "poisson_ratio",
-                                                      "unit_weight"))]
+                                                      "unit_weight", "tensile_strength"))]
     v = lambda key: geo.v("interface", key)        # noqa: E731
     if interface == "thin":
         lines += [fi(THIN_MATERIAL) + fa("ELASTIC") + "thin layer between slab and cushion",
@@ -699,9 +699,9 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
             add(fi(1) + fi(b) + fi(t) + " " * 15 + fi(THIN_MATERIAL)
                 + fa("JOINT" if interface == "joint" else "THIN")
                 + fa(rule if interface == "joint" else "") + fa(f"SLAB{phase}"))
-    if interface != "bonded":
-        lines += ["SLAB", "*         GROUP"] + [" " * 10 + fa(f"SLAB{phase}")
-                                                for phase in range(1, len(tops) + 1)]
+    # The slab's section forces and fibre stresses (docs/results.md) for every method.
+    lines += ["SLAB", "*         GROUP"] + [" " * 10 + fa(f"SLAB{phase}")
+                                            for phase in range(1, len(tops) + 1)]
     if interface == "contact":
         # The slab's inner faces (slave) and the body's upstream faces (master): the faces
         # whose two nodes lie on the cushion face line; independent nodes on either side.

@@ -211,7 +211,7 @@ contains
         real(dp), allocatable :: centre_s(:), elem_len(:), elem_t(:, :), dv(:, :), zeta(:, :)
         integer, allocatable :: order(:), section_of(:)
         real(dp) :: p(2, 4), a(2), b(2), t(2), nn(2), axis(2), origin(2), points(2, 4), &
-                    weights(4), bee(4, 8), sig(4), c(2), area, zc, tol
+                    weights(4), bee(4, 8), sig(4), c(2), area, zc, tol, ft
         integer :: ns, i, e, ig, nsec, j, m
         ns = 0
         do e = 1, model%mesh%nelem
@@ -225,7 +225,8 @@ contains
         if (ns == 0) then
             allocate (res%section_s(0), res%section_x(0), res%section_y(0), res%thickness(0), &
                       res%axial(0), res%shear(0), res%moment(0), res%sigma_water(0), &
-                      res%sigma_cushion(0), res%section_active(0))
+                      res%sigma_cushion(0), res%tensile_strength(0), res%crack_ratio(0), &
+                      res%section_active(0))
             return
         end if
         ns = 0
@@ -278,7 +279,8 @@ contains
         end do
         allocate (res%section_s(nsec), res%section_x(nsec), res%section_y(nsec), &
                   res%thickness(nsec), res%axial(nsec), res%shear(nsec), res%moment(nsec), &
-                  res%sigma_water(nsec), res%sigma_cushion(nsec), source=0.0_dp)
+                  res%sigma_water(nsec), res%sigma_cushion(nsec), res%tensile_strength(nsec), &
+                  res%crack_ratio(nsec), source=0.0_dp)
         allocate (res%section_active(nsec), source=.true.)
         do j = 1, nsec
             area = 0.0_dp
@@ -294,6 +296,10 @@ contains
                 res%section_x(j) = res%section_x(j) + sum(res%x(:, i))/4.0_dp
                 res%section_y(j) = res%section_y(j) + sum(res%y(:, i))/4.0_dp
                 res%thickness(j) = res%thickness(j) + elem_len(i)   ! summed lengths for now
+                ! f_t of the column: the smallest given by its elements' materials.
+                ft = model%materials(model%mesh%material(res%element(i)))%tensile_strength
+                if (ft > 0.0_dp .and. (res%tensile_strength(j) == 0.0_dp .or. &
+                                       ft < res%tensile_strength(j))) res%tensile_strength(j) = ft
             end do
             zc = zc/area
             res%section_s(j) = res%section_s(j)/m
@@ -320,6 +326,9 @@ contains
                                  6.0_dp*res%moment(j)/res%thickness(j)**2
             res%sigma_cushion(j) = res%axial(j)/res%thickness(j) - &
                                    6.0_dp*res%moment(j)/res%thickness(j)**2
+            ! sigma_1 at a face (no shear there): the larger fibre stress (theory.md s. 13).
+            if (res%tensile_strength(j) > 0.0_dp) res%crack_ratio(j) = &
+                max(res%sigma_water(j), res%sigma_cushion(j))/res%tensile_strength(j)
         end do
     contains
         !> A solid element of a SLAB group (not one of the interface elements).

@@ -13,7 +13,8 @@ module cfrd_listing
     use cfrd_results, only: stage_result_t
     use cfrd_stage_summary, only: stage_summary_t
     use cfrd_columns, only: csv_real, date_of, level_of, run_id_comment
-    use cfrd_interface_io, only: write_opening_history, write_interface_tables, &
+    use cfrd_interface_io, only: write_opening_history, write_slab_history, &
+                                 write_interface_tables, &
                                  write_opening_summary
     use cfrd_effects, only: effects_text
     use cfrd_run_identity, only: run_identity_t
@@ -51,6 +52,7 @@ contains
         call write_stage_table(unit, model, summaries)
         call write_gauge_tables(unit, model, summaries)
         call write_opening_history(unit, model, summaries)
+        call write_slab_history(unit, model, summaries)
         ! The full tables of the last stage; every stage's state is in the HDF5 file.
         call write_stage(unit, model, last, size(summaries))
         call write_solver(unit, model, summaries)

@@ -109,6 +109,10 @@ module cfrd_results
         real(dp), allocatable :: moment(:)            !! (nsection) M, kN m/m, tension on the water side +
         real(dp), allocatable :: sigma_water(:)       !! (nsection) N/h + 6M/h^2, kPa
         real(dp), allocatable :: sigma_cushion(:)     !! (nsection) N/h - 6M/h^2, kPa
+        !> (nsection) f_t of the section's concrete (ELASTIC FT), kPa; 0: not given
+        real(dp), allocatable :: tensile_strength(:)
+        !> (nsection) crack-risk ratio max(sigma_water, sigma_cushion) / f_t (0 without f_t)
+        real(dp), allocatable :: crack_ratio(:)
         logical, allocatable :: section_active(:)     !! (nsection) all its elements active
     end type slab_result_t
 
