@@ -7,11 +7,13 @@ module test_analysis_slab
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t
     use cfrd_testing, only: unittest_t, new_unittest, check, fail
-    use cfrd_model, only: model_t, material_t, stage_t, stage_load, interface_element_t, &
-                          law_goodman, elem_quad4_shear, elem_joint_gauss, method_joint
-    use cfrd_results, only: results_t
+    use cfrd_model, only: model_t, stage_t, stage_load, interface_element_t, &
+                          elem_quad4_shear, elem_joint_gauss, method_joint
+    use cfrd_results, only: results_t, slab_result_t, body_extremes_t
+    use cfrd_interface, only: slab_stresses
+    use cfrd_body_extremes, only: body_extremes
     use cfrd_stage_driver, only: run_analysis
-    use cfrd_test_models, only: new_model, elastic_material
+    use cfrd_test_models, only: new_model, elastic_material, linear_joint
     implicit none
     private
 
@@ -23,7 +25,8 @@ contains
 
     subroutine collect_analysis_slab(tests)
         type(unittest_t), allocatable, intent(out) :: tests(:)
-        tests = [new_unittest('hetenyi_point_load', test_hetenyi)]
+        tests = [new_unittest('hetenyi_point_load', test_hetenyi), &
+                 new_unittest('extremes_without_singular_points', test_extremes)]
     end subroutine collect_analysis_slab
 
     !> A slab 28 m long, h = 0.6 m thick in two layers of 56 Q4S quads each (0.5 m), on its
@@ -79,7 +82,7 @@ contains
             mat(el) = 2
         end do
         call new_model(model, xy, conn, mat, [elastic_material(e, 0.0_dp, 0.0_dp), &
-                                              winkler(k, 1.0e-3_dp*k)])
+                                              linear_joint(k, 1.0e-3_dp*k)])
         model%mesh%kind(1:2*nx) = elem_quad4_shear
         model%mesh%kind(2*nx + 1:) = elem_joint_gauss
         model%mesh%group(1:2*nx) = 1
@@ -148,20 +151,58 @@ contains
         end function weight
     end subroutine test_hetenyi
 
-    !> A Goodman joint of constant stiffnesses (n1 = 0 and Rf1 = 0 make ks = k1 gamma_w),
-    !> the same in tension: a Winkler foundation of modulus kn.
-    pure function winkler(kn, ks) result(mat)
-        real(dp), intent(in) :: kn, ks
-        type(material_t) :: mat
-        mat%law = law_goodman
-        mat%label = 'Winkler foundation'
-        mat%kn_compression = kn
-        mat%kn_tension = kn
-        mat%k1 = ks/9.81_dp
-        mat%gamma_w = 9.81_dp
-        mat%n1 = 0.0_dp
-        mat%rf1 = 0.0_dp
-        mat%phi = 45.0_dp
-        mat%sigma_n_floor = 10.0_dp
-    end function winkler
+    !> Extremes per body without the singular points (constructed case): a slab of three
+    !> 1 x 0.5 m quads (SLAB group) on three rockfill quads of 1 x 1 m, bonded, node 1 (the
+    !> slab's lower corner, shared with the rockfill) fixed. Radius 2 h = 1 m: slab element 1
+    !> (centroid 0.56 m from node 1) and rockfill element 4 (0.71 m) are left out, the others
+    !> (1.5 m and more) are not. Given sigma1 = 900, 500, 700 and sigma3 = -900, -100, -300 in
+    !> the slab, sigma1 = 80, 20, 10 and sigma3 = -800, -50, -60 in the rockfill: slab
+    !> extremes 700 (element 3) and -300 (element 3), rockfill 20 (element 5) and -60
+    !> (element 6), one element left out of each; singular nodes: node 1 alone.
+    subroutine test_extremes(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(model_t) :: model
+        type(slab_result_t) :: slab
+        type(body_extremes_t), allocatable :: ex(:)
+        integer, allocatable :: nodes(:)
+        real(dp), allocatable :: radius(:)
+        real(dp) :: xy(2, 12), principal(3, 6)
+        integer :: conn(4, 6), i
+        ! Rows of 4 nodes at y = -1, 0, 0.5: rockfill below, slab above.
+        do i = 0, 3
+            xy(:, i + 1) = [1.0_dp*i, 0.0_dp]
+            xy(:, i + 5) = [1.0_dp*i, 0.5_dp]
+            xy(:, i + 9) = [1.0_dp*i, -1.0_dp]
+        end do
+        do i = 1, 3
+            conn(:, i) = [i, i + 1, i + 5, i + 4]
+            conn(:, i + 3) = [i + 8, i + 9, i + 1, i]
+        end do
+        call new_model(model, xy, conn, [(1, i=1, 6)], [elastic_material(3.0e7_dp, 0.2_dp, &
+                                                                          0.0_dp)])
+        model%mesh%group(1:3) = 1
+        model%mesh%group_name = [character(len=10) :: 'SLAB']
+        model%slab_groups = [1]
+        allocate (model%interfaces(0))
+        model%fixed(:, 1) = .true.
+        model%fixed(:, 9:12) = .true.
+        principal = 0.0_dp
+        principal(1, :) = [900.0_dp, 500.0_dp, 700.0_dp, 80.0_dp, 20.0_dp, 10.0_dp]
+        principal(2, :) = [-900.0_dp, -100.0_dp, -300.0_dp, -800.0_dp, -50.0_dp, -60.0_dp]
+        call slab_stresses(model, spread(spread([0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], 2, 4), 3, &
+                                         6), [(.true., i=1, 6)], slab)
+        call body_extremes(model, principal, [(.true., i=1, 6)], [(.true., i=1, 6)], slab, &
+                           ex, nodes, radius)
+        call check(error, size(nodes), 1, 'one singular node')
+        if (allocated(error)) return
+        call check(error, nodes(1), 1, 'the slab''s fixed corner')
+        if (allocated(error)) return
+        call check(error, radius(1), 1.0_dp, 'two slab thicknesses', rel=1e-12_dp)
+        if (allocated(error)) return
+        call check(error, all([ex%max_element, ex%min_element, ex%left_out] == &
+                              [3, 5, 3, 6, 1, 1]), 'elements of the extremes, and left out')
+        if (allocated(error)) return
+        call check(error, all([ex%max_sigma1, ex%min_sigma3] == &
+                              [700.0_dp, 20.0_dp, -300.0_dp, -60.0_dp]), 'extreme values')
+    end subroutine test_extremes
 end module test_analysis_slab

@@ -373,12 +373,16 @@ contains
             node = minloc(stage%displacement_total(1, :), dim=1)
             write (unit, '(a,es14.5,i12,2f14.3)') '  min ux (-x), m             ', &
                 stage%displacement_total(1, node), node, mesh%x(:, node)
-            e = maxloc(stage%principal(1, :), dim=1)
-            write (unit, '(a,es14.5,i12,2f14.3)') '  max sigma1 (tension +), kPa', &
-                stage%principal(1, e), e, centroid(e)
-            e = minloc(stage%principal(2, :), dim=1)
-            write (unit, '(a,es14.5,i12,2f14.3)') '  min sigma3, kPa            ', &
-                stage%principal(2, e), e, centroid(e)
+            if (allocated(stage%extremes)) then
+                call write_body_extremes(unit, model, stage)
+            else
+                e = maxloc(stage%principal(1, :), dim=1)
+                write (unit, '(a,es14.5,i12,2f14.3)') '  max sigma1 (tension +), kPa', &
+                    stage%principal(1, e), e, centroid(e)
+                e = minloc(stage%principal(2, :), dim=1)
+                write (unit, '(a,es14.5,i12,2f14.3)') '  min sigma3, kPa            ', &
+                    stage%principal(2, e), e, centroid(e)
+            end if
             imbalance = norm2(stage%applied_load + stage%reaction_sum)/ &
                         max(norm2(stage%applied_load), tiny(1.0_dp))
             write (unit, '(a,2es14.5)') '  applied load (x, y), kN/m  ', stage%applied_load
@@ -416,4 +420,47 @@ contains
             c = sum(model%mesh%x(:, model%mesh%conn(:, e)), dim=2)/4.0_dp
         end function centroid
     end subroutine write_summary
+
+    !> Extreme stresses per body (slab, rockfill) at centroids, the slab's largest fibre
+    !> stress, and a note naming the singular points left out and why (docs/theory.md s. 13).
+    subroutine write_body_extremes(unit, model, stage)
+        integer, intent(in) :: unit
+        type(model_t), intent(in) :: model
+        type(stage_result_t), intent(in) :: stage
+        integer :: b, k
+        character(len=*), parameter :: fmt = '(a,es14.5,i12,2f14.3)'
+        do b = 1, size(stage%extremes)
+            associate (ex => stage%extremes(b))
+                if (ex%max_element == 0) cycle
+                write (unit, fmt) '  '//ex%body//' max sigma1, kPa  ', ex%max_sigma1, &
+                    ex%max_element, centroid_of(model, ex%max_element)
+                write (unit, fmt) '  '//ex%body//' min sigma3, kPa  ', ex%min_sigma3, &
+                    ex%min_element, centroid_of(model, ex%min_element)
+                if (ex%max_section > 0) then
+                    write (unit, '(a,es14.5,i12,2f14.3,a,f7.3,a)') &
+                        '  '//ex%body//' max fibre str., kPa', ex%max_fibre, ex%max_section, &
+                        stage%slab%section_x(ex%max_section), &
+                        stage%slab%section_y(ex%max_section), '  (section; ratio to f_t', &
+                        stage%slab%crack_ratio(ex%max_section), ')'
+                end if
+            end associate
+        end do
+        if (size(stage%singular_nodes) == 0) return
+        write (unit, '(a,i0,a,i0,a)') '  left out: ', stage%extremes(1)%left_out, ' slab and ', &
+            stage%extremes(2)%left_out, ' rockfill elements with their centroid within two'// &
+            ' slab thicknesses of a slab node on a support, where the stresses are singular'// &
+            ' (they grow as the mesh is refined; docs/theory.md section 13):'
+        do k = 1, size(stage%singular_nodes)
+            write (unit, '(a,i0,a,2f12.3,a,f7.3,a)') '    node ', stage%singular_nodes(k), &
+                ' at', model%mesh%x(:, stage%singular_nodes(k)), ', radius', &
+                stage%singular_radius(k), ' m'
+        end do
+    end subroutine write_body_extremes
+
+    function centroid_of(model, e) result(c)
+        type(model_t), intent(in) :: model
+        integer, intent(in) :: e
+        real(dp) :: c(2)
+        c = sum(model%mesh%x(:, model%mesh%conn(:, e)), dim=2)/4.0_dp
+    end function centroid_of
 end module cfrd_listing
