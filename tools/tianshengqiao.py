@@ -163,11 +163,18 @@ class Mesh:
         return key
 
 
-def build_x1(geo, interface="bonded"):
+def build_x1(geo, interface="bonded", normal_rings=None):
     """The x1 mesh: body rows with 3-to-1 transitions, the slab on the cushion face; the
     slab's inner nodes are the cushion's (bonded), matching ones paired in mesh.pairs
     (joint), moved out by the thin layer's thickness (thin, with its quads), or on rows of
     the slab's own (contact: interface.contact_elements along the slope)."""
+    # normal_rings: the slab's element ends normal to the face (rectangles along the slope,
+    # where Q4S is exact in bending), not along the body's row lines (parallelograms skewed
+    # by 54.5 deg, on which Q4S's shear stresses carry a part of the bending strain that
+    # alternates from Gauss point to Gauss point, docs/theory.md section 3); default: for
+    # the contact slab only (its own mesh). The toe's ring lies on the base either way.
+    if normal_rings is None:
+        normal_rings = interface == "contact"
     mesh = Mesh()
     y, parent = geo.mesh_lines()
     nband = len(y) - 1
@@ -261,11 +268,11 @@ def build_x1(geo, interface="bonded"):
                                (xi - thin * factor, yy))
         keys = [inner]
         for layer in range(1, layers + 1):
-            if interface == "contact" and yy > geo.base + 1e-9:
-                # The contact slab's own mesh: rings normal to the face (rectangles along
-                # the slope, no skew), but at the toe, where the ring lies on the base.
+            if normal_rings and yy > geo.base + 1e-9:
+                # Rings normal to the face (rectangles along the slope, no skew), but at
+                # the toe, where the ring lies on the base.
                 t = geo.slab_thickness(yy) * layer / layers
-                p = (xi - t / factor, yy + t * geo.su / factor)
+                p = (xi - thin * factor - t / factor, yy + t * geo.su / factor)
             else:
                 p = (xi - thin * factor - th * layer / layers, yy)
             keys.append(mesh.point(("s", layer, tag), p))
@@ -731,12 +738,12 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
     return info
 
 
-def generate(r, geo=None, interface="bonded", face=None, face_band=6):
+def generate(r, geo=None, interface="bonded", face=None, face_band=6, normal_rings=None):
     """(geometry, numbered mesh, stages, notes) of the xr mesh, or with face the face-
     resolved one (face_split: rows and slab in `face` divisions, the body's columns at r, the
     first face_band in `face`)."""
     geo = geo or Geometry()
-    mesh = build_x1(geo, interface)
+    mesh = build_x1(geo, interface, normal_rings)
     assign_zones(geo, mesh)
     stages, notes = plan_history(geo, mesh)
     if geo.creep:
@@ -822,7 +829,10 @@ def main(argv=None):
                  args.knee)]
     for r, path, interface, knee in jobs:
         r, geo = base.at_knee(interface) if knee else (r, base)
-        geo, num, stages, notes = generate(r, geo, interface, args.face, args.face_band)
+        # Q4S slabs (the contact deck's, or --slab-element Q4S) get element ends normal to
+        # the face: Q4S is not generated on skewed slab elements (issue 22).
+        geo, num, stages, notes = generate(r, geo, interface, args.face, args.face_band,
+                                           interface == "contact" or args.slab_element == "Q4S")
         if path is not None:
             info = write_deck(geo, r, num, stages, notes, path, args.solver, interface,
                               args.rule, args.slab_element,
