@@ -112,7 +112,7 @@ contains
         type(stage_summary_t), intent(in) :: summaries(:)
         integer :: s, k
         if (.not. has_slab(model)) return
-        write (unit, '(/,a,/,a,/,a,/,a)') repeat('-', 100), ' SLAB SECTIONS PER STAGE (per m '// &
+        write (unit, '(/,a,/,a,/,a)') repeat('-', 100), ' SLAB SECTIONS PER STAGE (per m '// &
             'of dam; S along the slab axis from its lowest element; N tension +; M + = '// &
             'tension on the water side; SIG: fibre stresses N/h +- 6M/h^2, kPa; RATIO: the '// &
             'larger fibre stress / f_t, blank without FT)', repeat('-', 100)

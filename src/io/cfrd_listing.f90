@@ -284,6 +284,12 @@ contains
                 stage%stress_centroid(:, e), stage%principal(1:2, e), stage%principal(3, e)
         end do
         call write_interface_tables(unit, model, stage)
+        if (allocated(stage%extremes)) then
+            write (unit, '(/,a,/,a)') ' EXTREME STRESSES PER BODY (at centroids; the slab''s '// &
+                'sections for its fibre stress)', &
+                ' quantity                          value   elem/sect         x (m)         y (m)'
+            call write_body_extremes(unit, model, stage)
+        end if
         write (unit, '(/,a,/,a)') ' REACTIONS (kN/m)', &
             '   NODE             RX             RY'
         do node = 1, model%mesh%nnode
@@ -438,7 +444,7 @@ contains
                     ex%min_element, centroid_of(model, ex%min_element)
                 if (ex%max_section > 0) then
                     write (unit, '(a,es14.5,i12,2f14.3,a,f7.3,a)') &
-                        '  '//ex%body//' max fibre str., kPa', ex%max_fibre, ex%max_section, &
+                        '  '//ex%body//' max fibre, kPa   ', ex%max_fibre, ex%max_section, &
                         stage%slab%section_x(ex%max_section), &
                         stage%slab%section_y(ex%max_section), '  (section; ratio to f_t', &
                         stage%slab%crack_ratio(ex%max_section), ')'
@@ -450,11 +456,12 @@ contains
             stage%extremes(2)%left_out, ' rockfill elements with their centroid within two'// &
             ' slab thicknesses of a slab node on a support, where the stresses are singular'// &
             ' (they grow as the mesh is refined; docs/theory.md section 13):'
-        do k = 1, size(stage%singular_nodes)
-            write (unit, '(a,i0,a,2f12.3,a,f7.3,a)') '    node ', stage%singular_nodes(k), &
-                ' at', model%mesh%x(:, stage%singular_nodes(k)), ', radius', &
-                stage%singular_radius(k), ' m'
-        end do
+        write (unit, '(a,*(1x,i0))') '    nodes', stage%singular_nodes
+        associate (x => model%mesh%x(:, stage%singular_nodes))
+            write (unit, '(a,2f10.3,a,2f10.3,a,2f7.3,a)') '    x', minval(x(1, :)), &
+                maxval(x(1, :)), ' m, y', minval(x(2, :)), maxval(x(2, :)), ' m; radius', &
+                minval(stage%singular_radius), maxval(stage%singular_radius), ' m'
+        end associate
     end subroutine write_body_extremes
 
     function centroid_of(model, e) result(c)
