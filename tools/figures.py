@@ -7,13 +7,13 @@
   make figures DECK=inputs/tianshengqiao-x1-joint.dat          (runs the deck first)
 
 The first file gives fig07-settlement.png and fig07-ux.png (contours at the last stage, or at
-stage N), fig09-10-gauges.png, fig11-opening.png, fig12-openings.png,
-fig12-openings-time.png and fig15-crack-risk.png; every file a curve in fig13-normal-stress.png
-and fig14-slab.png and a row of table5-openings.png. A figure is drawn when the results hold
-its data; a line says which were skipped and why. --reference: the TOML of observed and published values (default:
+stage N), fig09-10-gauges.png, fig11-opening.png, fig12-openings.png, fig12-openings-time.png
+and fig15-crack-risk.png; every file a curve in fig13-normal-stress.png and fig14-slab.png and
+a row of table5-openings.png. A figure is drawn when the results hold its data; a line says
+which were skipped and why. --reference: the TOML of observed and published values (default:
 the first inputs/*-observed.toml whose title_contains is in the results' title; `none`:
-without). --data also writes DIR/data/FIGURE.csv: every curve and bar as drawn (read back
-from the artists) and every contoured field, with all digits, for tools/check_figures.py.
+without). --data also writes DIR/data/FIGURE.csv: every curve and bar as drawn (read back from
+the artists) and every contoured field, with all digits, for tools/check_figures.py.
 """
 import argparse
 import csv
