@@ -26,7 +26,8 @@ contains
     subroutine collect_analysis_slab(tests)
         type(unittest_t), allocatable, intent(out) :: tests(:)
         tests = [new_unittest('hetenyi_point_load', test_hetenyi), &
-                 new_unittest('extremes_without_singular_points', test_extremes)]
+                 new_unittest('extremes_without_singular_points', test_extremes), &
+                 new_unittest('skewed_columns_are_sections', test_skewed_columns)]
     end subroutine collect_analysis_slab
 
     !> A slab 28 m long, h = 0.6 m thick in two layers of 56 Q4S quads each (0.5 m), on its
@@ -205,4 +206,47 @@ contains
         call check(error, all([ex%max_sigma1, ex%min_sigma3] == &
                               [700.0_dp, 20.0_dp, -300.0_dp, -60.0_dp]), 'extreme values')
     end subroutine test_extremes
+
+    !> Sections of a slab cut along skewed lines (constructed case): 3 columns of 8 layers,
+    !> each element 2 m along the axis and h/8 across, every cross line skewed so that a
+    !> column's layers shift by 1.9 m along the axis from its first to its last (the x8
+    !> Tianshengqiao-I slab on the row lines: 1.2 m in 1.6 m elements). Under a uniform
+    !> sigma_tt = a, each column is one section, N = a h (the column's elements found by
+    !> their cross lines, not by how close their centroids lie); 1e-12 relative.
+    subroutine test_skewed_columns(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(model_t) :: model
+        type(slab_result_t) :: res
+        integer, parameter :: nl = 8
+        real(dp), parameter :: a = -2500.0_dp, h = 0.6_dp, len = 2.0_dp, shift = 1.9_dp
+        real(dp) :: xy(2, 4*(nl + 1)), stress(4, 4, 3*nl)
+        integer :: conn(4, 3*nl), i, j, e
+        do j = 0, nl
+            do i = 0, 3
+                xy(:, 4*j + i + 1) = [len*i + shift*j/nl, h*j/nl]
+            end do
+        end do
+        e = 0
+        do j = 0, nl - 1
+            do i = 0, 2
+                e = e + 1
+                conn(:, e) = [4*j + i + 1, 4*j + i + 2, 4*(j + 1) + i + 2, 4*(j + 1) + i + 1]
+            end do
+        end do
+        call new_model(model, xy, conn, [(1, i=1, 3*nl)], [elastic_material(3.0e7_dp, &
+                                                                              0.2_dp, 0.0_dp)])
+        model%mesh%group = 1
+        model%mesh%group_name = [character(len=10) :: 'SLAB']
+        model%slab_groups = [1]
+        allocate (model%interfaces(0))
+        stress = 0.0_dp
+        stress(1, :, :) = a
+        call slab_stresses(model, stress, [(.true., i=1, 3*nl)], res)
+        call check(error, size(res%axial), 3, 'one section per column')
+        if (allocated(error)) return
+        do j = 1, 3
+            call check(error, res%axial(j), a*h, 'N = a h', rel=1e-12_dp)
+            if (allocated(error)) return
+        end do
+    end subroutine test_skewed_columns
 end module test_analysis_slab
