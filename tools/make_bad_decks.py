@@ -234,6 +234,10 @@ cases += [
  ("goodman-n1-bound", jsub("      1000       0.3", "      1000    0.9995"), "{f}:15:31-40: field N1 of MATERIALS 2: expected a real with 0 <= N1 <= 0.999, found '0.9995'"),
  ("goodman-phi-bound", jsub("       1.0      30.0", "       1.0      89.5"), "{f}:15:51-60: field PHI of MATERIALS 2: expected an angle in degrees, 0 < PHI <= 89, found '89.5'"),
 ]
+# The slab concrete's tensile strength (issue 22): ELASTIC FT.
+cases += [
+ ("elastic-ft-negative", sub("   20000.0       0.3      20.0", "   20000.0       0.3      20.0   -2000.0"), "{f}:12:31-40: field FT of MATERIALS 1: expected a real >= 0 (kPa), found '-2000.0'"),
+]
 for old in os.listdir(P):
     os.remove(P + old)
 for i, (name, deck, expect) in enumerate(cases, 1):
