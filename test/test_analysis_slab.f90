@@ -212,13 +212,15 @@ contains
     !> column's layers shift by 1.9 m along the axis from its first to its last (the x8
     !> Tianshengqiao-I slab on the row lines: 1.2 m in 1.6 m elements). Under a uniform
     !> sigma_tt = a, each column is one section, N = a h (the column's elements found by
-    !> their cross lines, not by how close their centroids lie); 1e-12 relative.
+    !> their cross lines, not by how close their centroids lie), and with FT = f_t the
+    !> crack-risk ratio is the fibre stress a over f_t; 1e-12 relative.
     subroutine test_skewed_columns(error)
         type(error_t), allocatable, intent(out) :: error
         type(model_t) :: model
         type(slab_result_t) :: res
         integer, parameter :: nl = 8
-        real(dp), parameter :: a = -2500.0_dp, h = 0.6_dp, len = 2.0_dp, shift = 1.9_dp
+        real(dp), parameter :: a = -2500.0_dp, h = 0.6_dp, len = 2.0_dp, shift = 1.9_dp, &
+                               ft = 2000.0_dp
         real(dp) :: xy(2, 4*(nl + 1)), stress(4, 4, 3*nl)
         integer :: conn(4, 3*nl), i, j, e
         do j = 0, nl
@@ -235,6 +237,7 @@ contains
         end do
         call new_model(model, xy, conn, [(1, i=1, 3*nl)], [elastic_material(3.0e7_dp, &
                                                                               0.2_dp, 0.0_dp)])
+        model%materials(1)%tensile_strength = ft
         model%mesh%group = 1
         model%mesh%group_name = [character(len=10) :: 'SLAB']
         model%slab_groups = [1]
@@ -246,6 +249,8 @@ contains
         if (allocated(error)) return
         do j = 1, 3
             call check(error, res%axial(j), a*h, 'N = a h', rel=1e-12_dp)
+            if (allocated(error)) return
+            call check(error, res%crack_ratio(j), a/ft, 'crack-risk ratio a / f_t', rel=1e-12_dp)
             if (allocated(error)) return
         end do
     end subroutine test_skewed_columns
