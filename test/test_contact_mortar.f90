@@ -29,6 +29,8 @@ contains
                 new_unittest('patch_node_to_segment_fails', test_patch_nts), &
                 new_unittest('incline_sticks', test_incline_stick), &
                 new_unittest('incline_slides', test_incline_slide), &
+                new_unittest('incline_fine_slave_sticks', test_incline_fine_stick), &
+                new_unittest('incline_fine_slave_slides', test_incline_fine_slide), &
                 new_unittest('lift_off_over_settlement', test_lift_off) &
                 ]
     end subroutine collect_contact_mortar
@@ -184,34 +186,46 @@ contains
     !> (3 on 4 elements), gravity tilted by theta instead of the slope (the same statics).
     !> Returns the resultants of the contact tractions on the slider: N = sum p w and
     !> T = sum q w, w the tributary lengths of its 4 bottom nodes (0.33, 0.67, 0.67, 0.33 m).
-    subroutine incline(theta, mu, push, normal, tangential, statuses, error)
+    subroutine incline(theta, mu, push, normal, tangential, statuses, error, fine)
         real(dp), intent(in) :: theta, mu, push
         real(dp), intent(out) :: normal, tangential
         integer, intent(out) :: statuses(:)
         type(error_t), allocatable, intent(out) :: error
+        !> a slider of 12 elements on a base of 1 (12 slave faces per master face), else 3
+        !> on 4
+        logical, intent(in), optional :: fine
         real(dp), parameter :: deg = 0.017453292519943295769_dp
         type(model_t) :: model
         type(results_t) :: results
-        real(dp) :: trib(4)
-        integer :: n0
-        call stacked_blocks(model, 4, 1, 3, 1, 2.0_dp, 0.5_dp, 1.0_dp, &
+        real(dp), allocatable :: trib(:)
+        integer :: n0, nb, nt, i
+        nb = 4
+        nt = 3
+        if (present(fine)) then
+            if (fine) then
+                nb = 1
+                nt = 12
+            end if
+        end if
+        call stacked_blocks(model, nb, 1, nt, 1, 2.0_dp, 0.5_dp, 1.0_dp, &
                             elastic_material(1.0e5_dp, 0.25_dp, 0.0_dp), &
                             elastic_material(1.0e5_dp, 0.25_dp, 20.0_dp), mu, scheme_mortar)
-        n0 = 5*2
-        model%fixed(:, 1:5) = .true.
+        n0 = (nb + 1)*2
+        model%fixed(:, 1:nb + 1) = .true.
         model%mesh%group_name = ['SLIDER    ']
-        model%mesh%group(5:7) = 1
+        model%mesh%group(nb + 1:nb + nt) = 1
         model%load_sets(1)%gravity = [gravity_load_t(group=1, ax=sin(theta*deg), &
                                                      ay=-cos(theta*deg))]
         if (push /= 0.0_dp) then
             ! the slider's top-left node held at ux = push (downhill)
-            model%fixed(1, n0 + 5) = .true.
-            model%prescribed(1, n0 + 5) = push
+            model%fixed(1, n0 + nt + 2) = .true.
+            model%prescribed(1, n0 + nt + 2) = push
         end if
         model%stages(1) = stage_t(kind=stage_load, load_set=1, increments=1, label='SLIDE')
         call run_analysis(model, results, error)
         if (allocated(error)) return
-        trib = [1.0_dp, 2.0_dp, 2.0_dp, 1.0_dp]/3.0_dp
+        ! tributary lengths of the slider's bottom nodes
+        trib = [(merge(1.0_dp, 2.0_dp, i == 0 .or. i == nt)/nt, i=0, nt)]
         associate (r => results%stages(1)%contact)
             normal = sum(-r%sigma_n*trib)
             tangential = sum(r%tau*trib)
@@ -224,27 +238,61 @@ contains
     !> W = 40 kN/m; 1e-8.
     subroutine test_incline_stick(error)
         type(error_t), allocatable, intent(out) :: error
-        real(dp), parameter :: deg = 0.017453292519943295769_dp, weight = 40.0_dp
-        real(dp) :: normal, tangential
-        integer :: statuses(4)
-        call incline(20.0_dp, 0.5_dp, 0.0_dp, normal, tangential, statuses, error)
-        if (allocated(error)) return
-        call check(error, normal, weight*cos(20.0_dp*deg), 'N = W cos theta', rel=1e-8_dp)
-        if (allocated(error)) return
-        call check(error, tangential, -weight*sin(20.0_dp*deg), 'T = -W sin theta', rel=1e-8_dp)
-        if (allocated(error)) return
-        ! (the uphill end, least pressed, may slip locally: partial slip)
-        call check(error, any(statuses == 1), 'the slider sticks (some node in stick)')
+        call incline_stick(error, .false.)
     end subroutine test_incline_stick
 
     !> tan 30 deg = 0.577 > mu = 0.3: the slider slides (held 5 cm downhill at one node);
     !> Coulomb: T = -mu W cos theta, N = W cos theta; 1e-8.
     subroutine test_incline_slide(error)
         type(error_t), allocatable, intent(out) :: error
+        call incline_slide(error, .false.)
+    end subroutine test_incline_slide
+
+    !> The slider in 12 elements on a base of 1 (12 slave faces per master face: friction per
+    !> master segment, docs/theory.md section 14), tan 20 deg < mu = 0.5: the closed form of
+    !> a block, it sticks, no node slips; statics as test_incline_stick; 1e-8.
+    subroutine test_incline_fine_stick(error)
+        type(error_t), allocatable, intent(out) :: error
+        call incline_stick(error, .true.)
+    end subroutine test_incline_fine_stick
+
+    !> The same fine slider at tan 30 deg > mu = 0.3, held 5 cm downhill at one node:
+    !> Coulomb as test_incline_slide (1e-8); every node slips.
+    subroutine test_incline_fine_slide(error)
+        type(error_t), allocatable, intent(out) :: error
+        call incline_slide(error, .true.)
+    end subroutine test_incline_fine_slide
+
+    !> The stick case on the incline: the 3-element slider (some node sticks; its uphill end,
+    !> least pressed, may slip locally: partial slip) or the `fine` one (no node slips).
+    subroutine incline_stick(error, fine)
+        type(error_t), allocatable, intent(out) :: error
+        logical, intent(in) :: fine
         real(dp), parameter :: deg = 0.017453292519943295769_dp, weight = 40.0_dp
         real(dp) :: normal, tangential
-        integer :: statuses(4)
-        call incline(30.0_dp, 0.3_dp, 0.05_dp, normal, tangential, statuses, error)
+        integer :: statuses(merge(13, 4, fine))
+        call incline(20.0_dp, 0.5_dp, 0.0_dp, normal, tangential, statuses, error, fine)
+        if (allocated(error)) return
+        call check(error, normal, weight*cos(20.0_dp*deg), 'N = W cos theta', rel=1e-8_dp)
+        if (allocated(error)) return
+        call check(error, tangential, -weight*sin(20.0_dp*deg), 'T = -W sin theta', rel=1e-8_dp)
+        if (allocated(error)) return
+        if (fine) then
+            call check(error, .not. any(statuses == 2) .and. count(statuses == 1) >= 12, &
+                       'the slider sticks: no slave node slips')
+        else
+            call check(error, any(statuses == 1), 'the slider sticks (some node in stick)')
+        end if
+    end subroutine incline_stick
+
+    !> The slide case on the incline, the 3-element slider or the `fine` one.
+    subroutine incline_slide(error, fine)
+        type(error_t), allocatable, intent(out) :: error
+        logical, intent(in) :: fine
+        real(dp), parameter :: deg = 0.017453292519943295769_dp, weight = 40.0_dp
+        real(dp) :: normal, tangential
+        integer :: statuses(merge(13, 4, fine))
+        call incline(30.0_dp, 0.3_dp, 0.05_dp, normal, tangential, statuses, error, fine)
         if (allocated(error)) return
         call check(error, normal, weight*cos(30.0_dp*deg), 'N = W cos theta', rel=1e-8_dp)
         if (allocated(error)) return
@@ -252,7 +300,7 @@ contains
                    rel=1e-8_dp)
         if (allocated(error)) return
         call check(error, all(statuses == 2), 'every node slips')
-    end subroutine test_incline_slide
+    end subroutine incline_slide
 
     !> Lift-off: a stiff slab (8 x 0.4 m, 10 elements, 24 kN/m3, mu 0.5) on an elastic base
     !> (8 x 2 m, 16 x 2 elements, weightless) whose bottom drops 0.2 m over |x - 4| <= 1.5.

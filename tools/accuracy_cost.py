@@ -157,7 +157,7 @@ def make_deck(workdir, method, s):
     return deck
 
 
-def load1():
+def load1(_done=None):
     try:
         return os.getloadavg()[0]
     except OSError:
@@ -188,16 +188,9 @@ def run_deck(cfrd, deck, force=False, repeat=3):
     for old in (h5, base + "-openings.csv"):
         if os.path.exists(old):
             os.remove(old)
-    best = None
-    for _ in range(repeat):
-        done = runner.run(cfrd, deck, check=False)
-        if best is None or done.wall < best[0]:
-            best = (done.wall, load1(), done)
-        # repeat only short runs that succeed: a shared machine's noise is largest there
-        if done.returncode != 0 or done.wall > REPEAT_BELOW:
-            break
-    wall, load, done = best
-    rec = dict(wall=wall, load1=load, status="ok", cfrd_sha256=program)
+    # repeat only short runs that succeed: a shared machine's noise is largest there
+    done, load = runner.best_of(cfrd, deck, repeat, REPEAT_BELOW, load1)
+    rec = dict(wall=done.wall, load1=load, status="ok", cfrd_sha256=program)
     if done.returncode != 0 or not os.path.exists(h5):
         msg = [ln.strip() for ln in (done.stderr + "\n" + done.stdout).splitlines() if ln.strip()]
         # cfrd's diagnostic: the line naming the stage and what failed, and what follows
@@ -214,13 +207,9 @@ def run_deck(cfrd, deck, force=False, repeat=3):
 
 def read_results(base):
     with results.open_results(base + ".h5") as f:
-        st = results.stages(f)
-        out = {key: sum(int(g.attrs[key]) for g in st)
-               for key in ("increments", "factorisations", "iterations")}
-        out.update(stages=len(st), analysis=results.scalar(f["run"].attrs["wall_time"]),
-                   contact_iterations=int(results.total([g["solver"].attrs for g in st],
-                                                        "contact_iterations")))
-        x, last = f["mesh/coordinates"][...], st[-1]
+        out = results.summary(f, ("contact_iterations",))
+        out["contact_iterations"] = int(out["contact_iterations"])
+        x, last = f["mesh/coordinates"][...], results.last_stage(f)
         u = last["displacement_total"][...]
         row = np.abs(x[:, 1] - MID_ROW) < 1e-3
         names, nodes = results.gauges(f)
@@ -497,8 +486,7 @@ def plot(study, prefix):
 
 
 def report(study, total, n_runs, plots, args):
-    from bench import machine
-    md = [f"Machine: {machine()}. {n_runs} distinct runs, {total:.0f} s of cfrd wall time "
+    md = [f"Machine: {runner.machine()}. {n_runs} distinct runs, {total:.0f} s of cfrd wall time "
           f"in all (one process at a time; `load` is the 1-minute load average at the end of "
           f"each run: the machine is shared).", ""]
     for method, knobs in study.items():

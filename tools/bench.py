@@ -31,7 +31,6 @@ process), never a running maximum over several runs.
 import argparse
 import math
 import os
-import platform
 import resource
 import subprocess
 import sys
@@ -40,28 +39,13 @@ import numpy as np
 
 import ccx_peer as peer
 import embankment as emb
+from accuracy_cost import richardson
 from cfrdtools import ccx, results, runner, tables
+from cfrdtools.decks import EFFECTS, with_effects
 
 IIIB = (2100 * 9.81 / 1000, 564.0, 0.35, 0.85, 204.0, 0.18, 1128.0, 51.0, 13.0)
 MID_ROW = 709.3333333
 PHASES = ("t_pattern", "t_assembly", "t_symbolic", "t_numeric", "t_solve")
-
-
-def machine():
-    """CPU model, logical cores, memory: one line for the tables' caption."""
-    def first(path, key, value):
-        try:
-            with open(path) as f:
-                return next((value(line) for line in f if line.lower().startswith(key)), None)
-        except OSError:
-            return None
-    model = first("/proc/cpuinfo", "model name", lambda ln: ln.split(":", 1)[1].strip()) \
-        or platform.processor() or "unknown CPU"
-    mem = first("/proc/meminfo", "memtotal:", lambda ln: f"{int(ln.split()[1]) / 1024 ** 2:.1f}"
-                                                         " GiB") or "unknown"
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-    return f"{model}, {cores} cores available, {mem} memory, {platform.system()} " \
-           f"{platform.release()}, Python {platform.python_version()}"
 
 
 def block_shape(n, ratio=2.5):
@@ -106,26 +90,21 @@ def table(header, rows, align):
 
 
 def figures(h5):
-    """What the analysis did, summed over the stages (docs/results.md): counts, times, the
+    """What the analysis did (results.summary: counts, times, solver sums over the stages), the
     largest settlement since placement and its elevation."""
     with results.open_results(h5) as f:
         st = results.stages(f)
         sv = [g["solver"].attrs for g in st]
         u, x = st[-1]["displacement_total"][...], f["mesh/coordinates"][...]
         k = int(u[:, 1].argmin())
-        return dict(stages=len(st), nelem=f["mesh/connectivity"].shape[0],
-                    neq=int(sv[-1]["neq"]), neq_max=max(int(a["neq"]) for a in sv),
-                    **{key: sum(int(g.attrs[key]) for g in st)
-                       for key in ("increments", "factorisations", "iterations")},
-                    **{key: results.total(sv, key) for key in (
-                        "numeric_factorisations", "updates", "contact_iterations", "searches",
-                        "t_contact", "t_symbolic", "t_numeric", "t_solve", "t_update",
-                        "t_assembly")},
+        return dict(results.summary(f, (
+            "numeric_factorisations", "updates", "contact_iterations", "searches", "t_contact",
+            "t_symbolic", "t_numeric", "t_solve", "t_update", "t_assembly")),
+                    nelem=f["mesh/connectivity"].shape[0], neq=int(sv[-1]["neq"]),
+                    neq_max=max(int(a["neq"]) for a in sv),
                     # increments of the stages with contact unknowns (slab placed)
                     cinc=sum(int(g.attrs["increments"]) for g, a in zip(st, sv)
                              if results.total([a], "contact_iterations") > 0),
-                    analysis=results.scalar(f["run"].attrs["wall_time"]),
-                    resid=max(float(g.attrs["max_residual"]) for g in st),
                     settl=float(-u[k, 1]), elev=float(x[k, 1]),
                     settl_u=float(-st[-1]["displacement"][:, 1].min()))
 
@@ -256,17 +235,11 @@ def tianshengqiao_runs(cfrd, decks, repeat):
     the failure, the children's peak RSS so far)."""
     out = []
     for deck, label in decks:
-        best = None
-        for _ in range(repeat):
-            done = runner.run(cfrd, deck, check=False)
-            if done.returncode != 0:
-                best = (done.wall, failure(done))
-                break
-            if best is None or done.wall < best[0]:     # the figures of the fastest run
-                best = (done.wall, figures(deck[:-4] + ".h5"))
-        out.append((label, *best, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss))
-        print(f"  tianshengqiao {' '.join(label)}: {sec(best[0])} s "
-              f"{best[1] if isinstance(best[1], str) else ''}", file=sys.stderr, flush=True)
+        done, fig = runner.best_of(cfrd, deck, repeat, keep=lambda d: failure(d) if d.returncode
+                                   else figures(deck[:-4] + ".h5"))
+        out.append((label, done.wall, fig, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss))
+        print(f"  tianshengqiao {' '.join(label)}: {sec(done.wall)} s "
+              f"{fig if isinstance(fig, str) else ''}", file=sys.stderr, flush=True)
     return out
 
 
@@ -315,13 +288,10 @@ def convergence(workdir, refinements):
              "|:---|" + "---:|" * (len(rows) + 1)]
     for key in rows[0][1] if rows else ():
         vals = [f[key] for _, f in rows]
-        rich = "-"
-        if len(vals) >= 3 and all(isinstance(v, float) for v in vals[-3:]):
-            d1, d2 = vals[-2] - vals[-3], vals[-1] - vals[-2]
-            if abs(d1) > 1e-12 and 0.0 < d2 / d1 < 1.0:
-                rich = f"{vals[-1] + d2 * (d2 / d1) / (1 - d2 / d1):.4f}"
+        rich = richardson(*vals[-3:]) if len(vals) >= 3 and all(
+            isinstance(v, float) for v in vals[-3:]) else None
         lines.append(tables.row([key] + [v if isinstance(v, str) else f"{v:.4f}" if isinstance(
-            v, float) else str(v) for v in vals] + [rich]))
+            v, float) else str(v) for v in vals] + [f"{rich[0]:.4f}" if rich else "-"]))
     return "\n".join(lines)
 
 
@@ -353,14 +323,13 @@ def bench_interfaces(cfrd, refinements, workdir, repeat, interfaces=("bonded", "
 # (f) Only the effects a deck asks for: the EFFECTS card (docs/cards.md), each effect switched
 # on alone over a base with all of them off. UNLOAD acts only on the nonlinear law, so its row
 # switches both on.
-EFFECT_FIELDS = ("ROCKFILL", "UNLOAD", "WATER", "INTERFACE", "FRICTION", "SLIP", "PHASES")
 EFFECT_OFF = dict(ROCKFILL="LINEAR", UNLOAD="OFF", WATER="OFF", INTERFACE="BONDED",
                   FRICTION="OFF", SLIP="SMALL", PHASES="OFF")
 EFFECT_ROWS = (("all off", ()), ("+ nonlinear rockfill", ("ROCKFILL",)),
                ("+ unload-reload", ("ROCKFILL", "UNLOAD")), ("+ water", ("WATER",)),
                ("+ joints", ("INTERFACE",)), ("+ friction", ("FRICTION",)),
                ("+ large slip", ("SLIP",)), ("+ slab phases", ("PHASES",)),
-               ("all on (the deck)", EFFECT_FIELDS))
+               ("all on (the deck)", EFFECTS))
 
 
 def bench_effects(cfrd, refinements, workdir, repeat):
@@ -372,18 +341,13 @@ def bench_effects(cfrd, refinements, workdir, repeat):
     for r in refinements:
         for interface in ("joint", "contact"):
             base = os.path.join(workdir, f"effects-x{r}-{interface}.dat")
-            lines = open(runner.tianshengqiao(base, "--refine", r, "--interface", interface)
-                         ).read().split("\n")
-            k = lines.index("CONTROL") + 1
+            text = open(runner.tianshengqiao(base, "--refine", r, "--interface", interface)).read()
             for label, on in EFFECT_ROWS:
-                if any(e not in applies[interface] for e in on) and on != EFFECT_FIELDS:
+                if any(e not in applies[interface] for e in on) and on != EFFECTS:
                     continue
-                card = "EFFECTS   " + "".join(
-                    f"{'' if e in on or e not in applies[interface] else EFFECT_OFF[e]:<10s}"
-                    for e in EFFECT_FIELDS)
                 deck = runner.write_deck(os.path.join(
-                    workdir, f"effects-x{r}-{interface}-{len(cells)}.dat"),
-                    "\n".join(lines[:k] + [card] + lines[k:]))
+                    workdir, f"effects-x{r}-{interface}-{len(cells)}.dat"), with_effects(
+                    text, **{e: EFFECT_OFF[e] for e in applies[interface] if e not in on}))
                 try:         # the figures of each run, so that they belong to the run reported
                     (wall, _, fig), rss = repeat_run(lambda: peer.run_cfrd(cfrd, deck, workdir)[:2]
                                                      + (figures(deck[:-4] + ".h5"),), repeat)
@@ -444,7 +408,7 @@ def main(argv=None):
         print(convergence(args.workdir, tsq))
         return 0
     os.makedirs(args.workdir, exist_ok=True)
-    mach = machine()
+    mach = runner.machine()
     cfrd = args.cfrd if os.access(args.cfrd, os.X_OK) else None
     tsq_tables = (
         (args.only_tianshengqiao, tsq, lambda: bench_tianshengqiao(

@@ -33,12 +33,11 @@ import shutil
 import signal
 import subprocess
 import sys
-import time
 
 import h5py
 
 from cfrdtools.checks import Checks, fresh, parser
-from cfrdtools.runner import TOOLS, tool
+from cfrdtools.runner import TOOLS, signal_when, tool
 
 GAMMA, HEIGHT = 20.0, 10.0          # inputs/column.dat
 check = Checks()
@@ -120,18 +119,10 @@ def check_stop(cfrd, work):
     """SIGTERM to the batch once its first deck has written a stage."""
     out = os.path.join(work, "stop")
     first, second = "inputs/tianshengqiao-x2.dat", "inputs/example.dat"
-    log = os.path.join(out, "tianshengqiao-x2.log")
-    proc = subprocess.Popen([sys.executable, os.path.join(TOOLS, "batch.py"), "--cfrd", cfrd,
-                             "--jobs", "1", "--out", out, first, second],
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    sent, end = False, time.monotonic() + 300
-    while not sent and time.monotonic() < end and proc.poll() is None:
-        sent = os.path.exists(log) and "stage 2/" in open(log).read()
-        if sent:
-            proc.send_signal(signal.SIGTERM)
-        else:
-            time.sleep(0.01)
-    text = proc.communicate()[0]
+    status, text, sent = signal_when(
+        [sys.executable, os.path.join(TOOLS, "batch.py"), "--cfrd", cfrd, "--jobs", "1", "--out",
+         out, first, second], os.path.join(out, "tianshengqiao-x2.log"), "stage 2/",
+        signal.SIGTERM, os.path.join(work, "stop.txt"))
     rows = {r["deck"]: r for r in read_rows(os.path.join(out, "batch-summary.csv"))}
     incomplete, stages = os.path.join(out, "tianshengqiao-x2.incomplete.h5"), 0
     if os.path.exists(incomplete):
@@ -139,10 +130,10 @@ def check_stop(cfrd, work):
             stages = len(f["stages"]) if f.attrs["complete"] == 0 else -1
     parts = glob.glob(os.path.join(out, "*.part"))
     statuses = {d: rows.get(d, {}).get("status") for d in (first, second)}
-    ok = sent and proc.returncode == 143 and statuses == {
+    ok = sent and status == 143 and statuses == {
         first: "stopped (SIGTERM)", second: "not run"} and stages >= 1 and not parts and \
         not os.path.exists(os.path.join(out, "example.h5"))
-    check("batch/sigterm", ok, f"exit {proc.returncode} (expected 143), summary statuses "
+    check("batch/sigterm", ok, f"exit {status} (expected 143), summary statuses "
           f"{statuses}, {stages} stages in tianshengqiao-x2.incomplete.h5 (expected >= 1), .part"
           f" files left: {parts or 'none'}" + ("" if ok else "\n" + text[-500:]))
 

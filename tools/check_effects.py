@@ -29,20 +29,10 @@ import numpy as np
 import eb_reference  # the independent E-B integration
 from cfrdtools import results, runner
 from cfrdtools.checks import Checks, parser
-from cfrdtools.decks import groups, unit_weights
+from cfrdtools.decks import groups, unit_weights, with_effects
 
-FIELDS = ("ROCKFILL", "UNLOAD", "WATER", "INTERFACE", "FRICTION", "SLIP", "PHASES")
 check = Checks("effects")
 stages = results.stages
-
-
-def with_effects(deck_text, **switch):
-    """The deck with an EFFECTS card (A10 fields after the keyword, blank = the default)
-    after its CONTROL header (the group takes it anywhere)."""
-    lines = deck_text.split("\n")
-    k = next(i for i, line in enumerate(lines) if line.rstrip() == "CONTROL")
-    card = "EFFECTS   " + "".join(f"{switch.get(f, ''):<10s}" for f in FIELDS)
-    return "\n".join(lines[:k + 1] + [card] + lines[k + 1:])
 
 
 def run(workdir, cfrd, name, text):

@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
-"""How cfrd stores its results (issue 21; docs/results.md, "Compression and precision"): the
-same deck run three times, with `--compress 0` (contiguous doubles, the layout before the
+"""How cfrd stores its results (issue 21; docs/results.md, "Compression and precision" and
+"XDMF"), read back by programs other than cfrd.
+
+The same deck run three times, with `--compress 0` (contiguous doubles, the layout before the
 filters), the default (shuffle + deflate level 1) and `--float32`, each file read with h5py:
 
   lossless   the default file holds the same datasets as the unfiltered one, with the same
@@ -11,27 +13,83 @@ filters), the default (shuffle + deflate level 1) and `--float32`, each file rea
              equal to the unfiltered file's doubles rounded to single precision (numpy's
              round-to-nearest), exactly; the mesh, the deck and the integer datasets are
              those of the unfiltered file; its XDMF file, read by meshio, gives the HDF5
-             values bit for bit (tools/check_xdmf.py: the XDMF declares Precision 4);
+             values bit for bit (the --xdmf checks below; the XDMF declares Precision 4);
   usage      --compress with a level outside 0-9, not a number, or none: exit 2;
   size       the files' sizes against the unfiltered one (printed, not a test: the issue's
              figures are in docs/performance.md).
 
+--xdmf: cfrd's DECK.xmf read with an independent XDMF reader (meshio's TimeSeriesReader, the
+reader ParaView-style time series are checked with) against the HDF5 datasets, exactly:
+
+  steps   one time step per stage: as many as the deck's STAGES cards (counted here from the
+          deck text), at times 1, 2, ..., N;
+  mesh    the points are /mesh/coordinates, one block of quads whose connectivity is
+          /mesh/connectivity - 1 (XDMF numbers from 0), as many cells as the mesh;
+  fields  at every step, the node vectors displacement and displacement_total are the stage's
+          (nnode, 2) datasets padded with z = 0, and the cell fields stress_centroid,
+          principal, stress_level, active, material equal theirs.
+
     python3 tools/check_results_format.py --cfrd bin/cfrd --workdir build/format
+    python3 tools/check_results_format.py --xdmf --cfrd CFRD --workdir DIR   (what make test
+                                                   runs: the Goodman-joint Tianshengqiao-I deck)
+    python3 tools/check_results_format.py --xdmf RESULTS.xmf DECK            (an existing run)
 """
 
-import argparse
 import os
+import pathlib
 import subprocess
 import sys
 
 import h5py
+import meshio
 import numpy as np
 
-import check_xdmf
-from cfrdtools.runner import run
+from cfrdtools.checks import Checks, parser
+from cfrdtools.decks import groups
+from cfrdtools.runner import ROOT, run
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DECK = os.path.join(ROOT, "inputs", "tianshengqiao-x1-contact.dat")
+XDMF_DECK = "inputs/tianshengqiao-x1-joint.dat"
+
+
+def check_xdmf(check, xmf, deck):
+    """The XDMF file against its HDF5 file and the deck (--xdmf above); True when all agree."""
+    cards = dict(groups(pathlib.Path(deck).read_text())).get("STAGES", [])
+    # (1 without STAGES: the LOADS stage)
+    nstage = sum(ln[:10].strip().upper() in ("FILL", "LOAD", "RESET", "WATER")
+                 for ln in cards) or 1
+    with h5py.File(pathlib.Path(xmf).with_suffix(".h5"), "r") as h5, \
+            meshio.xdmf.TimeSeriesReader(xmf) as reader:
+        points, cells = reader.read_points_cells()
+        xy, conn = h5["mesh/coordinates"][...], h5["mesh/connectivity"][...]
+        ok = check("steps", reader.num_steps == nstage == len(h5["stages"]),
+                   f"{reader.num_steps} time steps read, {nstage} stage cards in {deck}, "
+                   f"{len(h5['stages'])} stage groups in the HDF5 file (equal)")
+        quads = [c for c in cells if c.type == "quad"]
+        ok &= check("mesh", len(cells) == 1 and len(quads) == 1 and np.array_equal(
+            quads[0].data, conn - 1) and np.array_equal(points, xy), f"{points.shape[0]} "
+            f"points, {quads[0].data.shape[0] if quads else 0} quads read; HDF5 mesh "
+            f"{xy.shape[0]} nodes, {conn.shape[0]} elements (connectivity - 1, exact)")
+        bad, times = [], []
+        node_fields = ("displacement", "displacement_total")
+        cell_fields = ("stress_centroid", "principal", "stress_level", "active")
+        for k in range(reader.num_steps):
+            t, point_data, cell_data = reader.read_data(k)
+            times.append(t)
+            g = h5["stages"][f"stage_{k + 1:04d}"]
+            bad += [f"{name} at step {k}" for name in node_fields if not (
+                point_data[name].shape == (xy.shape[0], 3) and np.array_equal(
+                    point_data[name][:, :2], g[name][...]) and not point_data[name][:, 2].any())]
+            bad += [f"{name} at step {k}" for name in cell_fields
+                    if not np.array_equal(cell_data[name][0], g[name][...])]
+            if not np.array_equal(cell_data["material"][0], h5["mesh/material"][...]):
+                bad.append(f"material at step {k}")
+        ok &= check("times", times == [float(s) for s in range(1, nstage + 1)],
+                    f"times {times[0]:g} .. {times[-1]:g} (the stage numbers)")
+        fields = ", ".join(node_fields + cell_fields)
+        return ok & check("fields", not bad, f"{reader.num_steps} steps x ({fields}, material) "
+                          f"equal to the HDF5 datasets bit for bit"
+                          + (f"; differ: {', '.join(bad[:5])}" if bad else ""))
 
 
 def datasets(path):
@@ -45,44 +103,32 @@ def datasets(path):
     return out
 
 
-def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--cfrd", required=True)
-    ap.add_argument("--workdir", default="build/format")
-    a = ap.parse_args(argv)
-    failed = 0
-
-    def verdict(name, ok, text):
-        nonlocal failed
-        failed += 0 if ok else 1
-        print(f"{'PASS' if ok else 'FAIL'} format/{name}: {text}")
-
+def check_format(check, cfrd, workdir):
     files = {}
     for label, options in (("plain", ["--compress", "0"]), ("default", []),
                            ("float32", ["--float32"])):
-        out = os.path.join(a.workdir, label)
+        out = os.path.join(workdir, label)
         os.makedirs(out, exist_ok=True)
-        done = run(a.cfrd, DECK, "--out", out, *options, check=False)
+        done = run(cfrd, DECK, "--out", out, *options, check=False)
         if done.returncode != 0:
-            verdict(f"run-{label}", False, f"exit {done.returncode}: {done.stderr[:300]}")
-            return 1
+            return check(f"run-{label}", False, f"exit {done.returncode}: {done.stderr[:300]}")
         files[label] = os.path.join(out, os.path.basename(DECK)[:-4] + ".h5")
     plain, default, single = (datasets(files[k]) for k in ("plain", "default", "float32"))
 
     same = [n for n in plain if n in default and plain[n][1] == default[n][1]
             and np.array_equal(plain[n][0], default[n][0], equal_nan=False)
             and plain[n][0].tobytes() == default[n][0].tobytes()]
-    verdict("lossless", set(plain) == set(default) and len(same) == len(plain),
-            f"{len(same)} of {len(plain)} datasets of the default file (shuffle + deflate 1) "
-            "equal to the unfiltered file's, types, shapes and bytes")
+    check("lossless", set(plain) == set(default) and len(same) == len(plain),
+          f"{len(same)} of {len(plain)} datasets of the default file (shuffle + deflate 1) "
+          "equal to the unfiltered file's, types, shapes and bytes")
 
     big = [n for n, d in default.items() if d[5] >= 1024]
     filtered = [n for n in big if default[n][3] == "gzip" and default[n][4] and default[n][2]]
     small_plain = all(d[2] is None for n, d in default.items() if d[5] < 1024)
     unfiltered = all(d[2] is None and d[3] is None for d in plain.values())
-    verdict("filters", len(filtered) == len(big) > 0 and small_plain and unfiltered,
-            f"{len(filtered)} of {len(big)} datasets of 1024 values or more chunked through "
-            "shuffle and gzip, the smaller ones contiguous; --compress 0: none filtered")
+    check("filters", len(filtered) == len(big) > 0 and small_plain and unfiltered,
+          f"{len(filtered)} of {len(big)} datasets of 1024 values or more chunked through "
+          "shuffle and gzip, the smaller ones contiguous; --compress 0: none filtered")
 
     bad = []
     count = 0
@@ -95,30 +141,57 @@ def main(argv=None):
                 bad.append(n)
         elif s_dtype != dtype or s_values.tobytes() != values.tobytes():
             bad.append(n)
-    verdict("float32", not bad and count > 0 and set(plain) == set(single),
-            f"{count} real datasets of the stages in single precision, each equal to the "
-            "double values rounded to single (exact); every other dataset identical"
-            + (f"; differ: {', '.join(bad[:5])}" if bad else ""))
+    check("float32", not bad and count > 0 and set(plain) == set(single),
+          f"{count} real datasets of the stages in single precision, each equal to the "
+          "double values rounded to single (exact); every other dataset identical"
+          + (f"; differ: {', '.join(bad[:5])}" if bad else ""))
     xmf = files["float32"][:-3] + ".xmf"
-    ok = check_xdmf.check(xmf, DECK)
+    ok = check_xdmf(Checks("format/float32-xdmf", quiet=True), xmf, DECK)
     items = [line for line in open(xmf) if "<DataItem" in line and 'DataType="Float"' in line]
     declared = all(('Precision="8"' in line) == ("/mesh/" in line) for line in items)
-    verdict("float32-xdmf", ok and declared and len(items) > 0,
-            f"the --float32 run's XDMF file read by meshio gives the HDF5 datasets bit for "
-            f"bit; its {len(items)} float items declare Precision 4 for the stages' fields "
-            "and 8 for the mesh coordinates")
+    check("float32-xdmf", ok and declared and len(items) > 0,
+          f"the --float32 run's XDMF file read by meshio gives the HDF5 datasets bit for "
+          f"bit; its {len(items)} float items declare Precision 4 for the stages' fields "
+          "and 8 for the mesh coordinates")
 
     for args in (["--compress", "12"], ["--compress", "x"], ["--compress"]):
-        done = subprocess.run([a.cfrd, "--out", a.workdir, *args], capture_output=True,
-                              text=True)
-        verdict("usage " + " ".join(args), done.returncode == 2 and
-                "--compress needs a level from 0 (none) to 9" in done.stderr,
-                f"exit {done.returncode} (2), {done.stderr.strip().splitlines()[0][:80]!r}")
+        done = subprocess.run([cfrd, "--out", workdir, *args], capture_output=True, text=True)
+        check("usage " + " ".join(args), done.returncode == 2 and
+              "--compress needs a level from 0 (none) to 9" in done.stderr,
+              f"exit {done.returncode} (2), {done.stderr.strip().splitlines()[0][:80]!r}")
     size = {k: os.path.getsize(v) for k, v in files.items()}
     print(f"info format/size: unfiltered {size['plain'] / 1e6:.1f} MB, default "
           f"{size['default'] / 1e6:.1f} MB ({size['default'] / size['plain']:.2f}), "
           f"--float32 {size['float32'] / 1e6:.1f} MB ({size['float32'] / size['plain']:.2f})")
-    return 1 if failed else 0
+
+
+def main(argv=None):
+    ap = parser(__doc__, cfrd="", workdir="build/format")
+    ap.add_argument("--xdmf", action="store_true", help="the XDMF checks alone")
+    ap.add_argument("xmf", nargs="?")
+    ap.add_argument("deck", nargs="?")
+    args = ap.parse_args(argv)
+    if not args.xdmf:
+        if not args.cfrd:
+            ap.error("--cfrd is required")
+        check = Checks("format")
+        check_format(check, args.cfrd, args.workdir)
+        return check.status
+    check = Checks("xdmf")
+    if args.xmf and args.deck:
+        xmf, deck = args.xmf, args.deck
+    elif args.cfrd:
+        os.makedirs(args.workdir, exist_ok=True)
+        done = run(args.cfrd, XDMF_DECK, "--out", args.workdir, check=False)
+        if done.returncode != 0:
+            check("run", False, f"{args.cfrd} {XDMF_DECK}: exit {done.returncode}: "
+                  f"{done.stderr[-300:]}")
+            return 1
+        xmf, deck = os.path.join(args.workdir, pathlib.Path(XDMF_DECK).stem + ".xmf"), XDMF_DECK
+    else:
+        ap.error("--xdmf: give RESULTS.xmf DECK, or --cfrd CFRD")
+    check_xdmf(check, xmf, deck)
+    return check.status
 
 
 if __name__ == "__main__":

@@ -21,13 +21,13 @@ import shutil
 import signal
 import subprocess
 import sys
-import time
 
 import h5py
 import numpy as np
 
 from cfrdtools.checks import Checks, fresh, parser
 from cfrdtools.results import text
+from cfrdtools.runner import signal_when
 
 check = Checks("stop")
 
@@ -40,20 +40,10 @@ def digests(folder, stem):
 
 
 def stop_after_stage(cmd, log, signum, stage=2, timeout=300.0):
-    """Start `cmd`, send `signum` once its progress line for `stage` is in `log`; return
-    (exit status, log text, whether the signal was sent before the run ended)."""
-    with open(log, "w") as fh:
-        proc = subprocess.Popen(cmd, stdout=fh, stderr=subprocess.STDOUT)
-    sent, end = False, time.monotonic() + timeout
-    while not sent and time.monotonic() < end and proc.poll() is None:
-        sent = f"stage {stage}/" in open(log).read()
-        if sent:
-            proc.send_signal(signum)
-        else:
-            time.sleep(0.01)
-    if not sent and proc.poll() is None:
-        proc.kill()
-    return proc.wait(), open(log).read(), sent
+    """Start `cmd`, its output into `log`, send `signum` once its progress line for `stage`
+    is there; return (exit status, log text, whether the signal was sent before the run
+    ended)."""
+    return signal_when(cmd, log, f"stage {stage}/", signum, log, timeout)
 
 
 def compare_stages(incomplete, complete):

@@ -8,8 +8,9 @@
 
 The first file gives fig07-settlement.png and fig07-ux.png (contours at the last stage, or at
 stage N), fig09-10-gauges.png, fig11-opening.png, fig12-openings.png, fig12-openings-time.png
-and fig15-crack-risk.png; every file a curve in fig13-normal-stress.png and fig14-slab.png and
-a row of table5-openings.png. A figure is drawn when the results hold its data; a line says
+and fig15-crack-risk.png; every file a curve in fig13-normal-stress.png and fig14-slab.png, a
+row of table5-openings.png and, with a perimetric joint (PJOINT line, issue 22), its opening
+and settlement in pjoint.png. A figure is drawn when the results hold its data; a line says
 which were skipped and why. --reference: the TOML of observed and published values (default:
 the first inputs/*-observed.toml whose title_contains is in the results' title; `none`:
 without). --data also writes DIR/data/FIGURE.csv: every curve and bar as drawn (read back from
@@ -407,6 +408,45 @@ def stage_years(h5):
         np.array([1970.0 + float(d) / 365.2425 for d in days])
 
 
+def pjoint_histories(h5):
+    """Per PJOINT line: (line, stage numbers, years or None, opening mm, settlement mm) of
+    the stages where the whole line is placed (/stages/N/pjoint, docs/results.md)."""
+    years, out = stage_years(h5), {}
+    for number, g in enumerate(results.stages(h5), 1):
+        if "pjoint" not in g:
+            continue
+        p = g["pjoint"]
+        for j, line in enumerate(p["line"][...]):
+            if p["active"][j]:
+                rows = out.setdefault(int(line), [])
+                rows.append((number, None if years is None else years[number - 1],
+                             1e3 * float(p["opening"][j]), 1e3 * float(p["settlement"][j])))
+    return [(line, *map(np.array, zip(*rows))) for line, rows in sorted(out.items())]
+
+
+def pjoint_plot(files, names, out):
+    """Opening and settlement of the perimetric joints (PJOINT lines) against time (stage
+    numbers when a file has an undated stage), one curve per file and line."""
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4))
+    for f, name in zip(files, names):
+        for line, stage, years, opening, settlement in pjoint_histories(f):
+            x = stage if any(y is None for y in years) else years
+            label = f"{name} line {line}"
+            axes[0].plot(x, opening, ".-", ms=3, label=label)
+            axes[1].plot(x, settlement, ".-", ms=3, label=label)
+    axes[0].set_title("perimetric joint: opening")
+    axes[0].set_ylabel("opening (mm, + open)")
+    axes[1].set_title("perimetric joint: settlement")
+    axes[1].set_ylabel("settlement normal to the face (mm)")
+    for ax in axes:
+        ax.set_xlabel("year (stage where undated)")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle("slab over plinth since placement, means over the joint's line; the shear "
+                 "along the joint is out of the section's plane", fontsize=9)
+    return save(fig, out)
+
+
 def table5_row(reference, prefix, phase):
     """(width, depth) of the reference row starting with `prefix` for phase index 0 or 1."""
     for row in (reference or {}).get("table5", []) if phase <= 1 else ():
@@ -558,6 +598,9 @@ def main(argv=None):
          [n for _, n in pick])
     draw("fig15-crack-risk", not has_crack_ratio(first) and "no SLAB with FT", crack_risk_plot,
          first, names[0])
+    pick = [(f, n) for f, n in zip(files, names) if pjoint_histories(f)]
+    draw("pjoint", not pick and "no perimetric joint (PJOINT line)", pjoint_plot,
+         [f for f, _ in pick], [n for _, n in pick])
     draw("table5-openings", not any(phase_openings(f) for f in files) and
          "no slab phase with an interface or contact", table5_plot, files, names)
     print(f"{out}: {', '.join(written)}")

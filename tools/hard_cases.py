@@ -213,6 +213,38 @@ def case_no_converge():
     return {"no-converge.dat": d}
 
 
+# A stiff slab (32 Q4 along 4 m, the slave) on a soft foundation of 2 elements (the master):
+# each master face under 16 slave faces, mu 0.5, 100 kPa on the slab (N = 400 kN/m).
+FINE_MU, FINE_P, FINE_NX = 0.5, 100.0, 32
+
+
+def fine_slave(title):
+    d = Deck(title)
+    d.materials = elastic(1, "foundation", *CUSHION[:2]) + elastic(2, "slab", *SLAB[:2])
+    bg, be = d.rect(0.0, 0.0, 4.0, 1.0, 2, 1, 1, "BASE")
+    sg, se = d.rect(0.0, 1.0, 4.0, 0.25, FINE_NX, 1, 2, "SLAB")
+    d.fix(bg[0], 1, 1)
+    d.loads[""] = pressures(se[0], FINE_P)
+    d.contact = [f"&SURFACE, SLABBOT, {se[0][0]}, 1, {len(se[0]) - 1}, 1",
+                 f"&SURFACE, BASETOP, {be[-1][0]}, 3, {len(be[-1]) - 1}, 1",
+                 f"&PAIR, SLABBOT, BASETOP, {FINE_MU!r}, 0.0, MORTAR"]
+    return d, sg
+
+
+def case_fine_slave():
+    """Friction with a slave 16 times finer than its master (issue 20): a stiff slab pressed
+    on a soft foundation of two elements, then pushed along it by half the Coulomb force
+    (it must stick: closed form T < mu N), or dragged 5 cm (it must slip with mu N)."""
+    stick, sg = fine_slave("hard case: fine slave on a coarse master, stick")
+    push = 0.5 * FINE_MU * FINE_P * 4.0 / len(sg[1])
+    stick.loads["PUSH"] = [f"&FORCE, {sg[1][0]}, {sg[1][-1]}, 1, {push!r}, 0.0"]
+    stick.stages = ["&LOAD, , 1, , pressed", "&LOAD, PUSH, 2, , pushed by mu N / 2"]
+    slip, sg = fine_slave("hard case: fine slave on a coarse master, slip")
+    slip.fix([sg[0][0], sg[1][0]], 1, 0, ux=0.05)
+    slip.stages = ["&LOAD, , 5, , pressed and dragged 5 cm"]
+    return {"fine-stick.dat": stick, "fine-slip.dat": slip}
+
+
 def case_rpim_bend():
     """A slab against the face of a body placed in two layers (issue 20): the second layer's
     nodes start at their design place while the first layer's top has settled, so the face in
@@ -251,10 +283,37 @@ def case_rpim_bend():
     return decks
 
 
+class Derived:
+    """A deck made from a committed one by replacing lines (text() as Deck's)."""
+
+    def __init__(self, name, header, replace):
+        self.name, self.header, self.replace = name, header, replace
+
+    def text(self):
+        text = open(os.path.join(DECKS, self.name)).read()
+        for old, new in self.replace:
+            if old not in text:
+                raise SystemExit(f"{self.name}: no line {old!r} to replace")
+            text = text.replace(old, new)
+        return self.header + text
+
+
+def case_incipient_newton():
+    """incipient-slip.dat (the Tianshengqiao-I fine slab, 64 / 64 / 32 slave faces per phase
+    on the x1 body, midpoint) solved by Newton to 1e-10 (the CONTROL line of
+    `tools/tianshengqiao.py --solver newton`), so that its balance can be checked."""
+    control = " 1133  920    6    1   101.325      9.81KN-M          0    1\n"
+    return {"incipient-slip-newton.dat": Derived(
+        "incipient-slip.dat", "* incipient-slip.dat with Newton to 1e-10 (written by "
+        "tools/hard_cases.py --write, issue 20)\n",
+        [(control, control[:-2] + "31.0000E-10   30\n")])}
+
+
 CASE_DECKS = (case_liftoff, case_long_slip, lambda: {"contrast.dat": column(
     "hard case: kn / E = 1e6, E slab / E cushion = 1e5", "JOINT")}, lambda: {
     "thin-0001.dat": column("hard case: thin layer of aspect ratio 0.001", "THIN", 0.001)},
-    case_rockfill, case_drawdown, case_mechanism, case_no_converge, case_rpim_bend)
+    case_rockfill, case_drawdown, case_mechanism, case_no_converge, case_rpim_bend,
+    case_fine_slave, case_incipient_newton)
 
 
 class Run:
@@ -441,15 +500,119 @@ def check_no_converge(cfrd, work):
     return r, "error after 6 cutbacks of increment 1, stages 1-2 kept"
 
 
+def shear_alternation(stage):
+    """Sign changes of the shear traction between adjacent slave nodes of a surface (its
+    group, in the order of s) that are both closed and loaded (p above 1e-3 of the largest
+    pressure, |q| above 1e-3 of the largest shear), and the number of such adjacent pairs:
+    tractions that alternate from node to node change sign at about every pair; one sign per
+    master segment (docs/theory.md section 14) changes it at most where a closed run of slave
+    nodes passes a master node."""
+    st, p, q, s, grp = (stage["c_status"], -stage["c_sigma_n"], stage["c_tau"], stage["c_s"],
+                        stage["c_group"])
+    loaded = (st != 0) & (p > 1e-3 * max(p.max(), 1e-300)) & \
+        (np.abs(q) > 1e-3 * max(np.abs(q).max(), 1e-300))
+    changes = pairs = 0
+    for g in np.unique(grp):
+        idx = np.where(grp == g)[0]
+        idx = idx[np.argsort(s[idx])]
+        for a, b in zip(idx[:-1], idx[1:]):
+            if loaded[a] and loaded[b]:
+                pairs += 1
+                changes += int(q[a] * q[b] < 0)
+    return changes, pairs
+
+
+def notch_free_curvature(stage):
+    """The issue's pressure measure on the notch-free parts: max |p_(i-1) - 2 p_i + p_(i+1)|
+    over the largest pressure, at nodes whose two neighbours on either side are closed."""
+    st, p, s, grp = stage["c_status"], -stage["c_sigma_n"], stage["c_s"], stage["c_group"]
+    worst = 0.0
+    for g in np.unique(grp):
+        idx = np.where(grp == g)[0]
+        idx = idx[np.argsort(s[idx])]
+        for k in range(2, len(idx) - 2):
+            if all(st[idx[k + d]] != 0 for d in (-2, -1, 0, 1, 2)):
+                worst = max(worst, abs(p[idx[k - 1]] - 2 * p[idx[k]] + p[idx[k + 1]]))
+    return worst / max(p.max(), 1e-300)
+
+
+def fine_slab(cfrd, work, name, deck, balance):
+    """The Tianshengqiao-I fine-slab deck: all 45 stages, no NaN, the shear tractions not
+    alternating (shear_alternation at most 0.1 at every stage), with Newton the balance."""
+    r = Run(cfrd, work, deck)
+    if not common(name, r, 0):
+        return r, "did not run"
+    check(name + "/stages", len(r.stages) == 45, f"{len(r.stages)} stages of 45 completed")
+    worst, at, changes, pairs = 0.0, 0, 0, 0
+    for k, stage in enumerate(r.stages, 1):
+        c, n = shear_alternation(stage)
+        if n and c / n >= worst:
+            worst, at, changes, pairs = c / n, k, c, n
+    check(name + "/shear-alternation", worst <= 0.1, f"sign changes of the shear traction "
+          f"between neighbouring loaded closed slave nodes: at most {changes} of {pairs} "
+          f"(stage {at}; 0.1; alternating tractions give about 1)")
+    curvature = max(notch_free_curvature(stage) for stage in r.stages)
+    outcome = f"completes 45 stages; shear sign changes {changes} of {pairs} neighbours " \
+              f"(stage {at}); pressure second difference on notch-free parts up to " \
+              f"{curvature:.2f} of the peak (reported, not asserted)"
+    if balance:
+        e = max(float(np.max(np.abs(t["reaction_sum"] + t["applied"])) /
+                      np.max(np.abs(t["applied"]))) for t in r.stages)
+        check(name + "/balance", e <= 1e-8, f"reactions against the applied loads "
+              f"(statics), the largest over the stages: {e:.1e} (1e-8)")
+        outcome += f"; balance {e:.0e}"
+    return r, outcome
+
+
 def check_incipient_slip(cfrd, work):
-    r = Run(cfrd, work, "incipient-slip.dat")
-    common("incipient-slip", r, 1)
-    diagnostic("incipient-slip", r, ["stage 15", "increment 1", "did not settle in 40",
-                                     "the worst node", "kPa", "status", "cut back 6 times"])
-    check("incipient-slip/earlier-stages", len(r.stages) == 14,
-          f"{len(r.stages)} completed stages in DECK.incomplete.h5 (14)")
-    return r, "error: chatter held in stick breaks stick (> 1e-3 p_max), released, " \
-              "40 iterations; worst node named"
+    return fine_slab(cfrd, work, "incipient-slip", "incipient-slip.dat", False)
+
+
+def check_incipient_newton(cfrd, work):
+    return fine_slab(cfrd, work, "incipient-newton", "incipient-slip-newton.dat", True)
+
+
+def finished(cfrd, work, name, deck):
+    """The run of a deck expected to converge, and its last stage (None if it did not)."""
+    r = Run(cfrd, work, deck)
+    return r, r.stages[-1] if common(name, r, 0) else None
+
+
+def check_fine_stick(cfrd, work):
+    r, s = finished(cfrd, work, "fine-stick", "fine-stick.dat")
+    if s is None:
+        return r, "did not run"
+    closed, slipping = int(np.count_nonzero(s["c_status"])), int(np.sum(s["c_status"] == 2))
+    push = 0.5 * FINE_MU * FINE_P * 4.0
+    check("fine-stick/stick", slipping == 0 and closed >= 30, f"pushed by T = mu N / 2 = "
+          f"{push:.0f} kN/m: {closed} of 33 slave nodes closed, {slipping} slip (closed form, "
+          f"Coulomb on the slab: T < mu N = {2 * push:.0f} kN/m, it sticks; without friction "
+          f"per master segment 15 nodes slip)")
+    fx = float(s["reaction"][:3, 0].sum())           # the foundation's base
+    e = abs(fx + push) / push
+    check("fine-stick/statics", e <= 1e-9, f"the foundation's horizontal reaction {fx:.6f} "
+          f"kN/m against -T (statics): {e:.1e} (1e-9)")
+    changes, pairs = shear_alternation(s)
+    return r, f"converged; {slipping} of {closed} closed nodes slip (T = mu N / 2), " \
+              f"shear sign changes {changes} of {pairs}"
+
+
+def check_fine_slip(cfrd, work):
+    r, s = finished(cfrd, work, "fine-slip", "fine-slip.dat")
+    if s is None:
+        return r, "did not run"
+    nb = 6                                        # foundation nodes first, then the slab's
+    fx = float(s["reaction"][nb, 0] + s["reaction"][nb + FINE_NX + 1, 0])
+    expect = FINE_MU * FINE_P * 4.0
+    e = abs(fx - expect) / expect
+    # the deformed foundation's faces tilt the contact normals (as long-slip)
+    tilt = float(np.max(np.abs(s["displacement"][:nb]))) / (4.0 / 2)
+    closed = s["c_status"] != 0
+    check("fine-slip/friction", e <= tilt and np.all(s["c_status"][closed] == 2) and
+          np.all(s["c_slip"][closed] > 0.0), f"drag force {fx:.4f} kN/m against mu N = "
+          f"{expect:.0f} (Coulomb, closed form): {e:.1e} (the foundation's tilt, max |u| / "
+          f"2 m = {tilt:.1e}); {int(closed.sum())} closed slave nodes, all slipping forward")
+    return r, f"converged; drag force {e:.0e} from mu N, every closed node slips"
 
 
 def check_rpim_bend(cfrd, work):
@@ -486,8 +649,11 @@ CASES = [("liftoff", "full lift-off of the slab and re-closure", check_liftoff),
          ("drawdown", "reservoir filling and drawdown", check_drawdown),
          ("mechanism", "frictionless slab held by nothing", check_mechanism),
          ("no-converge", "Newton tolerance below round-off", check_no_converge),
-         ("incipient-slip", "Tianshengqiao fine slab at incipient slip (stage 15)",
+         ("incipient-slip", "Tianshengqiao fine slab (incipient slip at stage 15), midpoint",
           check_incipient_slip),
+         ("incipient-newton", "the same deck with Newton to 1e-10", check_incipient_newton),
+         ("fine-stick", "fine slave on a coarse master pushed by mu N / 2", check_fine_stick),
+         ("fine-slip", "fine slave on a coarse master dragged", check_fine_slip),
          ("rpim-bend", "RPIM master face placed in two layers (a bend at the boundary)",
           check_rpim_bend)]
 

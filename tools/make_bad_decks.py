@@ -62,7 +62,7 @@ cases = [
  ("degenerate-element", sub("    4    6    1       0.0       1.0       2.0       1.0", "    4    6    1       3.0       0.0       5.0       0.0"), "{f}:9: element 1 is degenerate"),
  ("material-out-of-range", sub("    1    1    2    5    4    1    1", "    1    1    2    5    4    2    1"), "{f}:9:26-30: field MAT of ELEMENTS 1: expected a material number from 1 to 1, found '2'"),
  ("missing-material-card", sub("   20000.0       0.3      20.0\n", ""), "{f}:11: MATERIALS 1: missing parameter card (E, NU, GAMMA)"),
- ("unknown-law", sub("    1ELASTIC", "    1PLASTIC"), "{f}:11:6-15: field LAW of MATERIALS 1: expected a material law: ELASTIC, EB or GOODMAN, found 'PLASTIC'"),
+ ("unknown-law", sub("    1ELASTIC", "    1PLASTIC"), "{f}:11:6-15: field LAW of MATERIALS 1: expected a material law: ELASTIC, EB, GOODMAN or PJOINT, found 'PLASTIC'"),
  ("unused-node", sub("    6    2    1\n", "         2    1\n").replace("ELEMENTS\n", "    7" + " "*10 + "       9.0       9.0\nELEMENTS\n"), "{f}:8: node 7 is used by no element"),
  ("rigid-no-x", sub("    1    3    1    1    1\n", "    1    3    1    0    1\n"), "{f}:13: rigid-body motion not suppressed: translation in x is free"),
  ("rigid-rotation", sub("    1    3    1    1    1\n", "    1" + " "*10 + "    1    1\n"), "{f}:13: rigid-body motion not suppressed: rotation is free"),
@@ -134,9 +134,9 @@ cases += [
  ("goodman-on-element", jsub("    1    1    2    5    4    1    1    1\n", "    1    1    2    5    4    2    1    1\n"), "{f}:9:26-30: field MAT of ELEMENTS 1: expected a solid material: GOODMAN is the law of joints, given on INTERFACE cards, found '2'"),
  ("interface-type", jsub("JOINT     LOBATTO", "GLUE      LOBATTO"), "{f}:17:36-45: field TYPE of INTERFACE line 1: expected an interface type: JOINT or THIN, found 'GLUE'"),
  ("interface-rule", jsub("JOINT     LOBATTO", "JOINT     SIMPSON"), "{f}:17:46-55: field RULE of INTERFACE line 1: expected an integration rule: GAUSS or LOBATTO"),
- ("joint-elastic-material", jsub(PAIR, PAIR.replace("    2JOINT", "    1JOINT")), "{f}:17:31-35: field MAT of INTERFACE line 1: expected a GOODMAN material for a JOINT, found '1'"),
- ("thin-goodman-material", jsub("JOINT     LOBATTO", "THIN              "), "{f}:17:31-35: field MAT of INTERFACE line 1: expected a solid material (not GOODMAN) for THIN, found '2'"),
- ("joint-gap", jsub("    7    9    1       0.0       1.0       2.0       1.0", "    7    9    1       0.0       1.1       2.0       1.1"), "{f}:17: INTERFACE line 1, pairs 4/7 and 5/8: the nodes of a pair are 1.000E-01 m apart; a JOINT has zero thickness (use THIN for a layer)"),
+ ("joint-elastic-material", jsub(PAIR, PAIR.replace("    2JOINT", "    1JOINT")), "{f}:17:31-35: field MAT of INTERFACE line 1: expected a GOODMAN or PJOINT material for a JOINT, found '1'"),
+ ("thin-goodman-material", jsub("JOINT     LOBATTO", "THIN              "), "{f}:17:31-35: field MAT of INTERFACE line 1: expected a solid material (not a joint) for THIN, found '2'"),
+ ("joint-gap", jsub("    7    9    1       0.0       1.0       2.0       1.0", "    7    9    1       0.0       1.1       2.0       1.1"), "{f}:17:11-15: field NT of INTERFACE line 1: expected a top node at its bottom node (pair 4/7: the nodes are 1.000E-01 m apart; a JOINT has zero thickness, use THIN for a layer), found '7'"),
  ("joint-orientation", jsub(PAIR, "    1    6    9    2   -1   -1    2JOINT     LOBATTO   SLAB"), "{f}:17: INTERFACE line 1, pairs 6/9 and 5/8: the top nodes' elements lie on the right of the line from bottom node 6 to 5; list the pairs of the line in the opposite order"),
  ("interface-one-pair", jsub(PAIR, PAIR.replace("    1    4    7    2", "    1    4    7    0")), "{f}:17: INTERFACE line 1 has one node pair"),
  ("interface-node", jsub(PAIR, PAIR.replace("    1    4    7    2", "    1    4   17    2")), "{f}:17:11-15: field NT of INTERFACE line 1: expected a node from 1 to 12 for every generated pair, found '17'"),
@@ -233,6 +233,43 @@ cases += [
  ("eb-dphi-bound", tsub("      51.0      13.0", "      51.0      89.5"), "{f}:13:11-20: field DPHI of MATERIALS 1: expected an angle in degrees, 0 <= DPHI <= 89, found '89.5'"),
  ("goodman-n1-bound", jsub("      1000       0.3", "      1000    0.9995"), "{f}:15:31-40: field N1 of MATERIALS 2: expected a real with 0 <= N1 <= 0.999, found '0.9995'"),
  ("goodman-phi-bound", jsub("       1.0      30.0", "       1.0      89.5"), "{f}:15:51-60: field PHI of MATERIALS 2: expected an angle in degrees, 0 < PHI <= 89, found '89.5'"),
+]
+# The plinth and the perimetric joint (issue 22): a plinth quad on the rock (nodes 1-4), a
+# slab quad on it (5-8) joined by a PJOINT line of one joint between pairs 3/5 and 4/6.
+pbase = """TITLE     bad plinth deck
+NODES
+    1    2    1       0.0       0.0       2.0       0.0
+    3    4    1       0.0       1.0       2.0       1.0
+    5    6    1       0.0       1.0       2.0       1.0
+    7    8    1       0.0       2.0       2.0       2.0
+ELEMENTS
+    1    1    2    4    3    1    0    1 PLINTH
+    2    5    6    8    7    1    0    1 SLAB
+MATERIALS
+    1ELASTIC   concrete
+     3.0E7       0.2      24.0
+    2PJOINT    perimetric joint
+     1.0E7     1.0E3     1.0E3
+INTERFACE
+    2    3    5    1    1    1    2JOINT     LOBATTO   SLAB
+PLINTH
+          PLINTH
+BOUNDARY
+    1    2    1    1    1
+LOADS
+GRAVITY
+END
+"""
+# lines: TITLE 2, NODES 3, nodes 4-7, ELEMENTS 8, elements 9-10, MATERIALS 11, 12-15,
+# INTERFACE 16, pair card 17, PLINTH 18, 19, BOUNDARY 20, 21, LOADS 22, GRAVITY 23, END 24
+psub = editor(pbase)
+cases += [
+ ("pjoint-negative-stiffness", psub("     1.0E7     1.0E3     1.0E3", "     1.0E7    -1.0E3     1.0E3"), "{f}:15:11-20: field KNT of MATERIALS 2: expected a real > 0 (kPa/m), found '-1.0E3'"),
+ ("pjoint-missing-ks", psub("     1.0E7     1.0E3     1.0E3", "     1.0E7     1.0E3"), "{f}:15:21-30: field KS of MATERIALS 2: expected a real > 0 (kPa/m), found ''"),
+ ("plinth-not-on-base", psub("    2    5    6    8    7    1    0    1 SLAB", "    2    5    6    8    7    1    0    1 PLINTH"), "{f}:19:11-20: field GROUP of PLINTH: expected a group whose every element lies on the base (element 2 has no side whose two nodes BOUNDARY holds in x and y), found 'PLINTH'"),
+ ("plinth-group", psub("          PLINTH\n", "          TOE\n"), "{f}:19:11-20: field GROUP of PLINTH: expected an element group (PLINTH, SLAB), found 'TOE'"),
+ ("pjoint-nodes-apart", psub("    5    6    1       0.0       1.0       2.0       1.0", "    5    6    1       0.0      1.05       2.0      1.05"), "{f}:17:11-15: field NT of INTERFACE line 2: expected a top node at its bottom node (pair 3/5: the nodes are 5.000E-02 m apart; a JOINT has zero thickness, use THIN for a layer), found '5'"),
+ ("pjoint-on-element", psub("    1    1    2    4    3    1    0    1 PLINTH", "    1    1    2    4    3    2    0    1 PLINTH"), "{f}:9:26-30: field MAT of ELEMENTS 1: expected a solid material: PJOINT is the law of joints, given on INTERFACE cards, found '2'"),
 ]
 # The slab concrete's tensile strength (issue 22): ELASTIC FT.
 cases += [

@@ -153,11 +153,14 @@ tool_checks "peer --column" python3 tools/ccx_peer.py --cfrd "$cfrd" --column --
 tool_checks "peer --elements 1000" python3 tools/ccx_peer.py --cfrd "$cfrd" --elements 1000 \
     --workdir "$work/peer"
 # Layer-by-layer construction against a superposition of CalculiX runs, both conventions.
-tool_checks "peer thin layer" python3 tools/ccx_thin.py --cfrd "$cfrd" --workdir "$work/ccx-thin"
-tool_checks "ccx staged" python3 tools/ccx_staged.py --cfrd "$cfrd" --workdir "$work/ccx-staged"
+tool_checks "peer thin layer" python3 tools/ccx_peer.py --thin --cfrd "$cfrd" \
+    --workdir "$work/ccx-thin"
+tool_checks "ccx staged" python3 tools/ccx_peer.py --staged --cfrd "$cfrd" \
+    --workdir "$work/ccx-staged"
 # Frictional contact between non-matching meshes: contact resultants and opened lengths against
 # CalculiX's face-to-face penalty contact (issue 7).
-tool_checks "peer contact" python3 tools/ccx_contact.py --cfrd "$cfrd" --workdir "$work/ccx-contact"
+tool_checks "peer contact" python3 tools/ccx_peer.py --contact --cfrd "$cfrd" \
+    --workdir "$work/ccx-contact"
 # Hard cases stay stable (issue 9, section 2): test/hard_cases/*.dat, each converging to a
 # checked answer or stopping with the full diagnostic, no NaN or Inf, earlier results intact.
 tool_checks "hard cases" python3 tools/hard_cases.py --cfrd "$cfrd" --workdir "$work/hard-cases"
@@ -175,10 +178,14 @@ tool_checks "effects" python3 tools/check_effects.py --cfrd "$cfrd" --workdir "$
 # form, the first-order convergence of the time steps, a layered column against scipy.
 tool_checks "creep" python3 tools/check_creep.py --cfrd "$cfrd" --workdir "$work/creep"
 
+# The plinth and the perimetric joint (issue 22): two blocks against statics closed forms,
+# the CSV, HDF5 and listing agreeing, the --plinth decks of every interface method read.
+tool_checks "plinth" python3 tools/check_plinth.py --cfrd "$cfrd" --workdir "$work/plinth"
 tool_checks "tianshengqiao" python3 tools/check_tianshengqiao.py --run "$cfrd" \
     --workdir "$work/tianshengqiao"
 # The XDMF file read back through an independent reader (meshio) against the HDF5 datasets.
-tool_checks "xdmf" python3 tools/check_xdmf.py --run "$cfrd" --workdir "$work/xdmf"
+tool_checks "xdmf" python3 tools/check_results_format.py --xdmf --cfrd "$cfrd" \
+    --workdir "$work/xdmf"
 # How results are stored (issue 21): shuffle + deflate lossless, --float32 exactly rounded,
 # its XDMF file read back by meshio, --compress usage errors (tools/check_results_format.py).
 tool_checks "results format" python3 tools/check_results_format.py --cfrd "$cfrd" \

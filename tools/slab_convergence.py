@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """The slab's stresses of one deck meshed at several refinements, side by side (issue 22;
-docs/tianshengqiao.md section 10): whether the largest slab tension comes from a
+docs/tianshengqiao.md section 11): whether the largest slab tension comes from a
 mesh-converged place.
 
   python3 tools/slab_convergence.py X2.h5 X4.h5 X8.h5 [--stage N] [--out FIG.png]

@@ -37,6 +37,7 @@ import numpy as np
 
 from cfrdtools.decks import FieldOverflow, fmt_alpha as fa, fmt_int as fi, fmt_real as fr, \
     free_real
+from cfrdtools import plinth as pl
 
 try:
     import tomllib                      # Python 3.11 and later
@@ -163,7 +164,7 @@ class Mesh:
         return key
 
 
-def build_x1(geo, interface="bonded", normal_rings=None):
+def build_x1(geo, interface="bonded", plinth=False, normal_rings=None):
     """The x1 mesh: body rows with 3-to-1 transitions, the slab on the cushion face; the
     slab's inner nodes are the cushion's (bonded), matching ones paired in mesh.pairs
     (joint), moved out by the thin layer's thickness (thin, with its quads), or on rows of
@@ -268,7 +269,10 @@ def build_x1(geo, interface="bonded", normal_rings=None):
                                (xi - thin * factor, yy))
         keys = [inner]
         for layer in range(1, layers + 1):
-            if normal_rings and yy > geo.base + 1e-9:
+            if plinth and abs(yy - geo.base) < 1e-9:
+                # --plinth: the slab's end cut normal to the face, on the plinth
+                p = pl.toe_ring_point(geo, mesh.coords[inner], layer, layers)
+            elif normal_rings and yy > geo.base + 1e-9:
                 # Rings normal to the face (rectangles along the slope, no skew), but at
                 # the toe, where the ring lies on the base.
                 t = geo.slab_thickness(yy) * layer / layers
@@ -288,6 +292,8 @@ def build_x1(geo, interface="bonded", normal_rings=None):
         if interface == "thin":
             mesh.quads.append(Quad((ring0[0], face0, face1, ring1[0]), "thin", band,
                                    material=THIN_MATERIAL, phase=phase))
+    if plinth:
+        pl.add_plinth(geo, mesh, rings[0][2], Quad)
     return mesh
 
 
@@ -507,6 +513,7 @@ class Numbered:
     quads: list             # Quad per element, same order
     index: dict = None      # node key -> number
     pairs: list = None      # interface: (cushion node, slab node) numbers, bottom to top
+    pjoint: list = None     # --plinth: (plinth node, slab node) numbers, face inwards
 
 
 def node_pairs(geo, mesh, num, width=0.0):
@@ -626,11 +633,18 @@ def knee_lines(geo, r, interface):
 
 def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="bonded",
                rule="LOBATTO", slab_type=None, mesh_label=None):
+    plinth = bool(num.pjoint)
+    nmat = (6 if interface in ("bonded", "contact") else 7) + (1 if plinth else 0)
     slab_type = slab_type or ("Q4S" if interface == "contact" else "Q4")
     gauges, info = gauge_nodes(geo, num), describe(geo, r, num)
     what = {"bonded": "slab bonded to the cushion", "thin": "thin layer under the slab",
             "joint": f"Goodman joints ({rule.lower()})", "contact": "slab in contact"}[interface]
-    lines = [f"TITLE     Tianshengqiao-I section 0+630, {mesh_label or f'x{r} mesh'}, {what}",
+    place = "Tianshengqiao-I 0+630" if plinth else "Tianshengqiao-I section 0+630"
+    what += ", plinth" if plinth else ""
+    title = f"TITLE     {place}, {mesh_label or f'x{r} mesh'}, {what}"
+    if len(title) > 80:         # --plinth with --face: the joints' rule is in the deck
+        title = re.sub(r" \((lobatto|gauss)\)", "", title)
+    lines = [title,
              "* Written by tools/tianshengqiao.py from inputs/tianshengqiao-i.toml; do not edit:",
              "* edit the geometry file and rerun `python3 tools/tianshengqiao.py --all`.",
              "* Sources: [paper] Qian et al. 2013; [lit] published values for this dam, not in",
@@ -638,7 +652,7 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
     add = lines.append
     lines += ["* " + t for t in knee_lines(geo, r, interface)]
     lines += [f"*   {key} = {value} [{source}]" + (f" {note}" if note else "")
-              for key, value, source, note in geo.sources]
+              for key, value, source, note in geo.sources + (pl.sources(geo) if plinth else [])]
     lines += ["*   materials: E-B parameters of the paper's Table 3; unit weight = density * 9.81",
               "*     / 1000; Kur = 2 K [choice] (blank KUR); sigma3 floor 0.1 pa (default)"]
     lines += ["*   " + t for t in notes]
@@ -650,8 +664,7 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
         f" {info['angle_min']:.1f}-{info['angle_max']:.1f} deg")
     add("CONTROL")
     add("*NNODE NELEM NMAT MODEL        PA    GAMMAW UNITS     NEWTOPSOLVER       TOLMAXIT")
-    control = (fi(len(num.xy)) + fi(len(num.conn)) + fi(6 if interface in ("bonded", "contact")
-                                                        else 7) + fi(1)
+    control = (fi(len(num.xy)) + fi(len(num.conn)) + fi(nmat) + fi(1)
                + fr(101.325) + fr(GAMMA_W) + fa("KN-M") + fi(0))
     # Newton: midpoint predictor, then iterations to 1e-10 (equilibrium at every stage); or
     # the paper's midpoint stiffness method
@@ -665,7 +678,8 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
     lines += ["ELEMENTS", "*  NE    I    J    K    L  MAT NGEN NINC GROUP"]
     # The slab of the contact deck in Q4S quads (no parasitic shear in bending: its elements
     # are 20-30 times longer than thick and bend with the cushion).
-    lines += [fi(e) + "".join(fi(v) for v in c) + fi(q.material) + " " * 10 + fa(q.group)
+    lines += [fi(e) + "".join(fi(v) for v in c) + fi(q.material or SLAB_MATERIAL) + " " * 10
+              + fa(q.group)
               + ("Q4S" if q.kind == "slab" and slab_type == "Q4S" else "")
               for e, (c, q) in enumerate(zip(num.conn, num.quads), 1)]
     add("MATERIALS")
@@ -694,6 +708,11 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
                   "".join(fr(v("goodman_" + k)) for k in ("kn_compression", "kn_tension", "k1",
                                                          "n1", "rf1", "phi"))
                   + " " * 10 + fi(v("goodman_cutoff"))]
+    if plinth:
+        lines += [fi(nmat) + fa("PJOINT") + "perimetric joint, slab on plinth",
+                  "*      KNC       KNT        KS",
+                  "".join(fr(geo.v("plinth", "pjoint_" + k)) for k in ("kn_compression",
+                                                                       "kn_tension", "ks"))]
     tops = geo.v("slab", "phase_tops")
     if interface in ("joint", "thin"):
         # One line of node pairs from the toe up: cushion node (bottom), slab node (top);
@@ -706,6 +725,14 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
             add(fi(1) + fi(b) + fi(t) + " " * 15 + fi(THIN_MATERIAL)
                 + fa("JOINT" if interface == "joint" else "THIN")
                 + fa(rule if interface == "joint" else "") + fa(f"SLAB{phase}"))
+    if plinth:
+        # The perimetric joint: (plinth node, slab node) pairs from the face inwards, placed
+        # with slab phase I.
+        if interface not in ("joint", "thin"):
+            lines += ["INTERFACE", "*LINE   NB   NT NGEN INCB INCT  MAT TYPE      RULE      GROUP"]
+        lines += [fi(pl.PJOINT_LINE) + fi(b) + fi(t) + " " * 15 + fi(nmat) + fa("JOINT")
+                  + fa("LOBATTO") + fa("SLAB1") for b, t in num.pjoint]
+        lines += ["PLINTH", "*         GROUP", " " * 10 + fa(pl.PLINTH_GROUP)]
     # The slab's section forces and fibre stresses (docs/results.md) for every method.
     lines += ["SLAB", "*         GROUP"] + [" " * 10 + fa(f"SLAB{phase}")
                                             for phase in range(1, len(tops) + 1)]
@@ -722,8 +749,10 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
                   fa("PAIR") + fa("SLABFACE") + fa("CUSHION") + fr(v("contact_friction"))
                   + fr(v("contact_tolerance")) + fa("MORTAR") + fa("LINEAR") + fi(1)]
     base = np.nonzero(np.abs(num.xy[:, 1] - geo.base) < 1e-9)[0] + 1
-    assert np.all(np.diff(base) == 1)
-    lines += ["BOUNDARY", "*  N1   N2  INC   IX   IY", fi(base[0]) + fi(base[-1]) + fi(1) * 3]
+    assert plinth or np.all(np.diff(base) == 1)
+    lines += ["BOUNDARY", "*  N1   N2  INC   IX   IY"]
+    lines += [fi(a) + fi(b) + fi(1) * 3 for a, b in pl.runs(pl.fixed_nodes(num, geo))] \
+        if plinth else [fi(base[0]) + fi(base[-1]) + fi(1) * 3]
     lines += ["RESERVOIR", "* ELEM FACE COVER"] + [fi(e) + fi(4) + fa(q.cover) for e, q in
                                                     enumerate(num.quads, 1) if q.wet_face4]
     lines += ["GAUGES", "* NODE NAME      LABEL"] + [
@@ -738,24 +767,35 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
     return info
 
 
-def generate(r, geo=None, interface="bonded", face=None, face_band=6, normal_rings=None):
+def generate(r, geo=None, interface="bonded", face=None, face_band=6, plinth=False,
+             solver_note=None, normal_rings=None):
     """(geometry, numbered mesh, stages, notes) of the xr mesh, or with face the face-
     resolved one (face_split: rows and slab in `face` divisions, the body's columns at r, the
     first face_band in `face`)."""
     geo = geo or Geometry()
-    mesh = build_x1(geo, interface, normal_rings)
+    mesh = build_x1(geo, interface, plinth, normal_rings)
     assign_zones(geo, mesh)
     stages, notes = plan_history(geo, mesh)
     if geo.creep:
         stages, notes = creep_history(geo, stages), notes + creep_notes(geo)
     if face is not None:
-        fine = refine(mesh, r, face_split(r, face, face_band))
+        fine = refine(mesh, r, pl.split(face_split(r, face, face_band), r, face) if plinth
+                      else face_split(r, face, face_band))
         notes = notes + [f"face-resolved mesh (--face {face} --face-band {face_band}): every"
                          f" x1 row and slab element in {face} along the slope, the first"
                          f" {face_band} body columns from the upstream face at x{face}, the"
                          f" other columns at x{r}"]
     else:
-        fine = refine(mesh, r)
+        fine = refine(mesh, r, pl.split(None, r, r)) if plinth else refine(mesh, r)
+    if plinth:
+        stages = [("FILL", pl.PLINTH_GROUP, 1, stages[0][3], "plinth on the rock")] + stages
+        notes = notes + [f"plinth: {geo.v('plinth', 'width'):g} m upstream of the slab's toe,"
+                         f" {geo.v('plinth', 'thickness'):g} m thick on rock below the base, the"
+                         " slab's concrete (material 6); the slab's end cut normal to the face"
+                         f" on it through the PJOINT joint of INTERFACE line {pl.PJOINT_LINE};"
+                         " no water on the plinth [choice]"]
+        if solver_note:
+            notes.append(solver_note)
     if interface == "thin":
         # The layer is one element thick at every refinement: the INTERFACE cards make its
         # quads from the cushion and slab node pairs, so the refined layer goes.
@@ -767,6 +807,7 @@ def generate(r, geo=None, interface="bonded", face=None, face_band=6, normal_rin
     num.pairs = node_pairs(geo, fine, num) if interface == "joint" else node_pairs(
         geo, fine, num, geo.v("interface", "thin_thickness") * math.sqrt(1.0 + geo.su ** 2)) \
         if interface == "thin" else []
+    num.pjoint = pl.joint_pairs(num, geo) if plinth else []
     return geo, num, stages, notes
 
 
@@ -792,6 +833,10 @@ def main(argv=None):
     ap.add_argument("--solver", default="midpoint", choices=["midpoint", "newton"],
                     help="midpoint stiffness (the paper's) or Newton to 1e-10")
     ap.add_argument("--report", action="store_true", help="print the mesh quality")
+    ap.add_argument("--plinth", action="store_true",
+                    help="a concrete plinth on the rock at the slab's toe and a perimetric"
+                         " joint (PJOINT) between it and the slab's end ([plinth] of the"
+                         " geometry file; docs/tianshengqiao.md s. 10)")
     ap.add_argument("--slab-element", choices=["Q4", "Q4S"], default=None,
                     help="element type of the slab (default: Q4S for contact, Q4 else)")
     ap.add_argument("--rule", default="LOBATTO", choices=["LOBATTO", "GAUSS"],
@@ -816,6 +861,8 @@ def main(argv=None):
     base.creep = args.creep
     if args.top_rows is not None:
         base.top_rows = args.top_rows
+    if args.plinth and args.all:
+        ap.error("--plinth writes one deck: leave out --all (the decks in inputs/ have none)")
     if args.knee and args.refine is not None:
         ap.error("--knee sets the mesh: leave out --refine")
     if args.all:
@@ -831,8 +878,12 @@ def main(argv=None):
         r, geo = base.at_knee(interface) if knee else (r, base)
         # Q4S slabs (the contact deck's, or --slab-element Q4S) get element ends normal to
         # the face: Q4S is not generated on skewed slab elements (issue 22).
-        geo, num, stages, notes = generate(r, geo, interface, args.face, args.face_band,
-                                           interface == "contact" or args.slab_element == "Q4S")
+        geo, num, stages, notes = generate(
+            r, geo, interface, args.face, args.face_band, args.plinth,
+            "midpoint method: out of balance once the perimetric joint opens (relative residual"
+            " up to 7 in the last water stage); use --solver newton (docs/tianshengqiao.md"
+            " s. 10)" if args.solver == "midpoint" else None,
+            interface == "contact" or args.slab_element == "Q4S")
         if path is not None:
             info = write_deck(geo, r, num, stages, notes, path, args.solver, interface,
                               args.rule, args.slab_element,

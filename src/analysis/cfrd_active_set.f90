@@ -12,7 +12,7 @@ module cfrd_active_set
     use cfrd_results, only: stage_result_t
     use cfrd_contact, only: contact_t, contact_iteration_limit
     use cfrd_contact_constraints, only: contact_rhs, contact_unpack, contact_update_sets, &
-                                        contact_stick_excess
+                                        contact_stick_excess, contact_shear_shape
     use cfrd_linear_system, only: system_t, factorise_contact
     implicit none
     private
@@ -29,6 +29,10 @@ module cfrd_active_set
     !> Held nodes are accepted when no one's excess over its stick conditions (tension, or
     !> shear beyond mu p) exceeds this fraction of the largest contact pressure.
     real(dp), parameter :: held_tolerance = 1.0e-3_dp
+    !> Friction groups: a solve whose pressures move a group's shear shape by more than
+    !> this is solved again with the new shape, at most shape_passes times [choice].
+    real(dp), parameter :: shape_tolerance = 0.05_dp
+    integer, parameter :: shape_passes = 3
 
 
 contains
@@ -53,7 +57,7 @@ contains
         integer, allocatable :: seen(:, :), before(:), flips(:)
         logical, allocatable :: held(:), changing(:)
         real(dp) :: t0
-        integer :: node, k, c, neq, iteration, earlier, cycling, since
+        integer :: node, k, c, neq, iteration, earlier, cycling, since, passes
         logical :: changed, released
         neq = system%dofmap%neq
         allocate (b(system%pattern%n), x(system%pattern%n))
@@ -70,6 +74,7 @@ contains
             allocate (held(contact%nc), source=.false.)
         end if
         iteration = 0
+        passes = 0
         cycling = 0
         since = 1
         released = .false.
@@ -77,9 +82,8 @@ contains
             iteration = iteration + 1
             if (present(contact)) then
                 do c = 1, contact%nc
-                    b(neq + 2*c - 1:neq + 2*c) = merge(contact_rhs(contact, c, &
-                        system%contact_scale, known, system%viscous), 0.0_dp, &
-                        system%constrains(:, c))
+                    b(neq + 2*c - 1:neq + 2*c) = contact_rhs(contact, c, &
+                        system%contact_scale, known, system%viscous, system%constrains)
                 end do
             end if
             t0 = wall_seconds()
@@ -129,7 +133,12 @@ contains
                 released = .true.
                 call update_sets()
             end if
-            if (.not. changed) return
+            if (.not. changed) then
+                if (.not. reshaped()) return
+                call factorise_contact(model, system, contact, result, context, error, .true.)
+                if (allocated(error)) return
+                cycle
+            end if
             seen(:, iteration) = 3*contact%status + contact%slip_sign
             where (seen(:, iteration) /= before) flips = flips + 1
             ! Chatter (a node that keeps changing, never repeating the whole set exactly):
@@ -177,6 +186,21 @@ contains
             if (allocated(error)) return
         end do
     contains
+        !> The friction groups' shear shapes from the pressures of this solve: true (and the
+        !> new shapes kept, to be solved with) when one moved by more than shape_tolerance,
+        !> at most shape_passes times per solve (docs/theory.md section 14).
+        logical function reshaped()
+            real(dp), allocatable :: old(:)
+            reshaped = .false.
+            if (contact%ngroup == 0 .or. passes >= shape_passes .or. &
+                iteration >= contact_iteration_limit - 1) return
+            old = contact%beta
+            call contact_shear_shape(contact)
+            reshaped = maxval(abs(contact%beta - old)) > shape_tolerance
+            if (.not. reshaped) contact%beta = old
+            if (reshaped) passes = passes + 1
+        end function reshaped
+
         subroutine update_sets()
             if (present(du_base)) then
                 call contact_update_sets(model, contact, du_base + du, system%contact_scale, &

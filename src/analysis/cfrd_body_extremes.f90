@@ -1,5 +1,5 @@
-!> The extreme stresses of a stage per body, the face slab (SLAB groups) and the rockfill
-!> (the other solids), without the singular points (docs/theory.md section 13): a slab node
+!> The extreme stresses of a stage per body, the face slab (SLAB groups), the rockfill (the
+!> other solids) and the plinth (PLINTH groups, when given), without the singular points (docs/theory.md section 13): a slab node
 !> on a fixed support (the toe on the rock) is the corner of a stiff body held against a
 !> soft one, where the elastic stresses grow without bound as the mesh is refined. The
 !> elements whose centroid lies within two slab thicknesses of such a node are left out.
@@ -32,13 +32,17 @@ contains
         type(body_extremes_t), allocatable, intent(out) :: extremes(:)
         integer, allocatable, intent(out) :: nodes(:)
         real(dp), allocatable, intent(out) :: radius(:)
-        logical, allocatable :: in_slab(:), near(:), on_slab(:)
+        logical, allocatable :: in_slab(:), in_plinth(:), near(:), on_slab(:)
         real(dp) :: c(2)
         integer :: e, k, b, j
         associate (mesh => model%mesh)
-            allocate (in_slab(mesh%nelem), near(mesh%nelem), on_slab(mesh%nnode))
+            allocate (in_slab(mesh%nelem), in_plinth(mesh%nelem), near(mesh%nelem), &
+                      on_slab(mesh%nnode))
+            in_plinth = .false.
             do e = 1, mesh%nelem
                 in_slab(e) = solid(e) .and. any(model%slab_groups == mesh%group(e))
+                if (allocated(model%plinth_groups)) in_plinth(e) = solid(e) .and. &
+                    any(model%plinth_groups == mesh%group(e))
             end do
             ! Singular nodes: nodes of active slab elements held by a support.
             on_slab = .false.
@@ -57,14 +61,16 @@ contains
                     if (norm2(c - mesh%x(:, nodes(k))) < radius(k)) near(e) = .true.
                 end do
             end do
-            allocate (extremes(2))
+            allocate (extremes(merge(3, 2, any(in_plinth))))
             extremes(1)%body = 'slab'
             extremes(2)%body = 'rockfill'
-            do b = 1, 2
+            if (size(extremes) == 3) extremes(3)%body = 'plinth'
+            do b = 1, size(extremes)
                 associate (ex => extremes(b))
                     do e = 1, mesh%nelem
                         if (.not. (active(e) .and. solid(e))) cycle
                         if (in_slab(e) .neqv. (b == 1)) cycle
+                        if (in_plinth(e) .neqv. (b == 3)) cycle
                         if (near(e)) then
                             ex%left_out = ex%left_out + 1
                             cycle

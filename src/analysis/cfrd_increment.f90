@@ -16,7 +16,7 @@ module cfrd_increment
     use cfrd_assembly, only: element_box_t, dof_map_t, assemble_tangent, internal_forces, &
                              gather
     use cfrd_contact, only: contact_t, contact_geometry
-    use cfrd_contact_constraints, only: contact_forces, contact_accept
+    use cfrd_contact_constraints, only: contact_forces, contact_accept, contact_shear_shape
     use cfrd_linear_system, only: system_t, new_system, factorise_values, factorise_contact, &
                                   multiplier_scale
     use cfrd_active_set, only: solve_system
@@ -117,6 +117,7 @@ contains
             contact = state%contact
             t0 = wall_seconds()
             call contact_geometry(model, state%active, contact, changed, searched)
+            call contact_shear_shape(contact)
             result%stats%t_contact = result%stats%t_contact + (wall_seconds() - t0)
             if (searched) result%stats%searches = result%stats%searches + 1
             if (changed) then

@@ -4,7 +4,7 @@
 !> the stage's state: nothing here feeds back into the analysis.
 module cfrd_interface
     use cfrd_kinds, only: dp
-    use cfrd_model, only: model_t, method_joint, elem_joint_lobatto
+    use cfrd_model, only: model_t, method_joint, elem_joint_lobatto, law_pjoint
     use cfrd_results, only: interface_result_t, opening_t, slab_result_t
     use cfrd_shape, only: gauss_2x2
     use cfrd_quad4, only: quad4_bmatrix
@@ -101,7 +101,7 @@ contains
     end subroutine station_state
 
     !> Opening width and depth of every slab phase: the active interface elements of one
-    !> group on one line. Depth: from the phase's upper end down along the line while the
+    !> group on one line (not of a perimetric joint). Depth: from the phase's upper end down along the line while the
     !> stations are open, to the zero of the sign-changing value between the last open and
     !> the first closed station (linear interpolation); the whole length if all are open.
     subroutine phase_openings(model, res, openings)
@@ -123,7 +123,9 @@ contains
                     model%mesh%group(model%interfaces(k)%element)) exit
                 kk = kk + 1
             end do
-            if (all(res%active(k:kk))) then
+            ! (a perimetric joint, PJOINT, is no slab phase: cfrd_pjoint_results)
+            if (all(res%active(k:kk)) .and. model%materials(model%mesh%material( &
+                model%interfaces(k)%element))%law /= law_pjoint) then
                 openings = [openings, opening_t(line=model%interfaces(k)%line, &
                                                 group=model%mesh%group( &
                                                 model%interfaces(k)%element))]

@@ -14,7 +14,8 @@ module cfrd_linear_system
     use cfrd_umfpack, only: umfpack_t
     use cfrd_assembly, only: element_box_t, dof_map_t, number_equations
     use cfrd_contact, only: contact_t, contact_slip, contact_stick
-    use cfrd_contact_constraints, only: contact_element_dofs, contact_element_matrix
+    use cfrd_contact_constraints, only: contact_element_dofs, contact_element_matrix, &
+                                        contact_group_dofs, contact_group_matrix
     implicit none
     private
 
@@ -60,22 +61,34 @@ contains
         type(contact_t), intent(in) :: contact
         logical, intent(in) :: has_contact
         integer, allocatable :: dof_ptr(:), dofs(:), more(:)
-        integer :: c, nelem, pos
+        integer :: c, g, k, nelem, pos
         call system%solver%release()
         call number_equations(model, library, active, system%dofmap)
         if (has_contact) then
             nelem = model%mesh%nelem
-            allocate (dof_ptr(nelem + contact%nc + 1))
+            ! (then each friction group: its members' dofs, docs/theory.md section 14)
+            allocate (dof_ptr(nelem + contact%nc + contact%ngroup + 1))
             dof_ptr(1:nelem + 1) = system%dofmap%dof_ptr
             do c = 1, contact%nc
                 dof_ptr(nelem + c + 1) = dof_ptr(nelem + c) + 2* &
                     (contact%cpl_ptr(c + 1) - contact%cpl_ptr(c)) + 2
             end do
-            allocate (dofs(dof_ptr(nelem + contact%nc + 1) - 1))
+            do g = 1, contact%ngroup
+                dof_ptr(nelem + contact%nc + g + 1) = dof_ptr(nelem + contact%nc + g) + &
+                    sum([(dof_ptr(nelem + contact%grp_node(k) + 1) - &
+                          dof_ptr(nelem + contact%grp_node(k)), &
+                          k=contact%grp_ptr(g), contact%grp_ptr(g + 1) - 1)])
+            end do
+            allocate (dofs(dof_ptr(size(dof_ptr)) - 1))
             dofs(1:size(system%dofmap%dofs)) = system%dofmap%dofs
             pos = dof_ptr(nelem + 1)
-            do c = 1, contact%nc
-                more = contact_element_dofs(contact, c, system%dofmap%eq, system%dofmap%neq)
+            do c = 1, contact%nc + contact%ngroup
+                if (c <= contact%nc) then
+                    more = contact_element_dofs(contact, c, system%dofmap%eq, system%dofmap%neq)
+                else
+                    more = contact_group_dofs(contact, c - contact%nc, system%dofmap%eq, &
+                                              system%dofmap%neq)
+                end if
                 dofs(pos:pos + size(more) - 1) = more
                 pos = pos + size(more)
             end do
@@ -165,7 +178,7 @@ contains
         real(dp), allocatable :: ke(:, :)
         real(dp) :: t0
         logical :: done
-        integer :: c, m, attempt
+        integer :: c, g, m, attempt
         do attempt = 1, 2
             t0 = wall_seconds()
             system%values = system%k_values
@@ -177,6 +190,17 @@ contains
                                             system%contact_scale, system%constrains(:, c), ke, &
                                             system%viscous)
                 call assemble_element(system%pattern, system%values, model%mesh%nelem + c, ke)
+                deallocate (ke)
+            end do
+            do g = 1, contact%ngroup
+                m = size(contact_group_dofs(contact, g, system%dofmap%eq, system%dofmap%neq))
+                allocate (ke(m, m))
+                call contact_group_matrix(contact, g, model%contact_pairs(contact%pair( &
+                                          contact%grp_node(contact%grp_ptr(g))))%friction, &
+                                          system%contact_scale, system%constrains, ke, &
+                                          system%viscous)
+                call assemble_element(system%pattern, system%values, &
+                                      model%mesh%nelem + contact%nc + g, ke)
                 deallocate (ke)
             end do
             result%stats%t_assembly = result%stats%t_assembly + (wall_seconds() - t0)

@@ -6,12 +6,13 @@
 !> for (sigma_n, tau) and (du_n, du_s) and leaves 3-4 at zero.
 module cfrd_material_law
     use cfrd_kinds, only: dp
-    use cfrd_model, only: material_t, law_elastic, law_duncan_eb, law_goodman
+    use cfrd_model, only: material_t, law_elastic, law_duncan_eb, law_goodman, law_pjoint
     use cfrd_elastic, only: elastic_dmatrix
     use cfrd_duncan_eb, only: eb_params_t, eb_tangent, eb_stress_state, eb_state_t, &
                               eb_moduli_gradient
     use cfrd_goodman, only: goodman_params_t, goodman_tangent, goodman_update, &
                             goodman_update_tangent
+    use cfrd_pjoint, only: pjoint_params_t, pjoint_stress, pjoint_tangent
     implicit none
     private
 
@@ -52,6 +53,14 @@ contains
                              tension_cutoff=mat%tension_cutoff)
     end function goodman_parameters
 
+    !> The perimetric-joint parameters of a material card.
+    pure function pjoint_parameters(mat) result(p)
+        type(material_t), intent(in) :: mat
+        type(pjoint_params_t) :: p
+        p = pjoint_params_t(kn_compression=mat%kn_compression, kn_tension=mat%kn_tension, &
+                            ks=mat%ks_joint)
+    end function pjoint_parameters
+
     !> Tangent matrix d(4,4) at stress (tension positive), total strain and history.
     pure subroutine material_tangent(mat, pa, stress, strain, history, d)
         type(material_t), intent(in) :: mat
@@ -64,6 +73,10 @@ contains
         case (law_goodman)
             d = 0.0_dp
             call goodman_tangent(goodman_parameters(mat, pa), stress(1:2), strain(1), d2)
+            d(1:2, 1:2) = d2
+        case (law_pjoint)
+            d = 0.0_dp
+            call pjoint_tangent(pjoint_parameters(mat), strain(1:2), d2)
             d(1:2, 1:2) = d2
         case default
             d = elastic_dmatrix(mat%youngs_modulus, mat%poisson_ratio)
@@ -88,6 +101,15 @@ contains
             stress_mid = 0.0_dp
             call goodman_update(goodman_parameters(mat, pa), stress(1:2), strain(1), de(1:2), &
                                 midpoint, stress_new(1:2), stress_mid(1:2))
+            return
+        end if
+        if (mat%law == law_pjoint) then
+            ! Elastic and bilinear: exact from the total relative displacements.
+            stress_new = 0.0_dp
+            stress_mid = 0.0_dp
+            stress_new(1:2) = pjoint_stress(pjoint_parameters(mat), strain(1:2) + de(1:2))
+            stress_mid(1:2) = pjoint_stress(pjoint_parameters(mat), &
+                                            strain(1:2) + 0.5_dp*de(1:2))
             return
         end if
         if (present(d_start)) then
@@ -125,6 +147,10 @@ contains
             c = 0.0_dp
             call goodman_update_tangent(goodman_parameters(mat, pa), stress(1:2), strain(1), &
                                         de(1:2), c(1:2, 1:2))
+        case (law_pjoint)
+            ! The derivative of the exact update: the tangent at the increment's end.
+            c = 0.0_dp
+            call pjoint_tangent(pjoint_parameters(mat), strain(1:2) + de(1:2), c(1:2, 1:2))
         case (law_duncan_eb)
             if (present(d_start)) then
                 d0 = d_start

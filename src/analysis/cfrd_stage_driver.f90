@@ -16,6 +16,7 @@ module cfrd_stage_driver
     use cfrd_assembly, only: element_box_t, make_elements, load_set_forces, fill_forces, &
                              internal_forces, active_nodes
     use cfrd_water, only: water_forces, lowest_wet_point
+    use cfrd_pjoint_results, only: perimetric_joints
     use cfrd_interface, only: interface_stations, phase_openings, slab_stresses
     use cfrd_body_extremes, only: body_extremes
     use cfrd_contact, only: new_contact
@@ -397,6 +398,7 @@ contains
                 call interface_stations(model, state%stress, state%strain, state%active, &
                                         result%interface)
                 call phase_openings(model, result%interface, result%openings)
+                call perimetric_joints(model, result%interface, result%pjoint)
             end if
             if (allocated(model%slab_groups)) &
                 call slab_stresses(model, state%stress, state%active, result%slab)

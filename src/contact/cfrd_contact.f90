@@ -30,6 +30,9 @@ module cfrd_contact
     integer, parameter :: contact_slip = 2    !! closed, sliding at the Coulomb limit
     !> Active-set iterations per solve before giving up (the stage driver then cuts back).
     integer, parameter :: contact_iteration_limit = 40
+    !> A pair's slave is "much finer" than its master when its mean active face is this many
+    !> times shorter: its slave nodes then share one friction law per master segment [choice]
+    real(dp), parameter, public :: friction_group_ratio = 3.0_dp
 
     !> The contact state and the geometry of the current increment.
     type :: contact_t
@@ -69,6 +72,16 @@ module cfrd_contact
         integer, allocatable :: cpl_ptr(:)         !! (nc + 1)
         integer, allocatable :: cpl_node(:)
         real(dp), allocatable :: cpl_a(:)
+        !> Friction per master segment (a slave much finer than its master, docs/theory.md
+        !> section 14): the group of each slave node (0: its own friction law), and the
+        !> groups' members, contact nodes grp_node(grp_ptr(g):grp_ptr(g + 1) - 1) ascending
+        integer :: ngroup = 0
+        integer, allocatable :: tgroup(:)          !! (nc)
+        integer, allocatable :: grp_ptr(:), grp_node(:)
+        !> (nc) the shape of a group's shear traction, q_c = beta_c q_G: the members'
+        !> pressures at the start of the increment over the group's largest (1 if none;
+        !> cfrd_contact_constraints: contact_shear_shape)
+        real(dp), allocatable :: beta(:)
     end type contact_t
 
 contains
@@ -129,6 +142,10 @@ contains
         allocate (contact%w(nc), contact%wref(nc), contact%g(nc), source=0.0_dp)
         allocate (contact%cpl_ptr(nc + 1), source=1)
         allocate (contact%cpl_node(0), contact%cpl_a(0))
+        allocate (contact%tgroup(nc), source=0)
+        allocate (contact%beta(nc), source=1.0_dp)
+        allocate (contact%grp_ptr(1), source=1)
+        allocate (contact%grp_node(0))
         contact%s = arc_lengths(model, contact)
     contains
         !> The contact node of mesh node `node` in the current pair, made on first sight.
@@ -228,7 +245,8 @@ contains
         logical, intent(out) :: changed
         logical, intent(out) :: searched   !! the search ran (not so with small slip)
         real(dp), allocatable :: x(:, :), boxes(:, :), ta(:)
-        integer, allocatable :: tc(:), tn(:), old_ptr(:), old_node(:), found(:), marker(:)
+        integer, allocatable :: tc(:), tn(:), old_ptr(:), old_node(:), found(:), marker(:), &
+                                old_group(:)
         logical, allocatable :: seg_on(:), mseg_on(:), was_placed(:)
         type(bucket_grid_t) :: grid
         real(dp) :: n_seg(2), radius, cell, d(2, 2), m(2, 2), covered, box(4), lmax
@@ -318,10 +336,14 @@ contains
             changed = size(old_node) /= size(contact%cpl_node)
             if (.not. changed) changed = any(old_ptr /= contact%cpl_ptr) .or. &
                                          any(old_node /= contact%cpl_node)
+            old_group = contact%tgroup
+            call friction_groups()
+            changed = changed .or. any(old_group /= contact%tgroup)
             contact%g_curve = g_curve
             call weighted_gaps()
         end associate
     contains
+
         !> Weighted gaps at the start, the supported nodes, the first guess.
         subroutine weighted_gaps()
             integer :: c, kk, ip
@@ -557,43 +579,143 @@ contains
         !> Node-to-segment: each slave node against the nearest master point straight across
         !> it along its normal, weighted by its tributary length.
         subroutine node_to_segment()
-            real(dp) :: lambda, distance, best, best_lambda
-            logical :: hit
+            real(dp) :: lambda
             integer :: best_k
             do c = 1, contact%nc
                 if (.not. contact%placed(c)) cycle
                 if (model%contact_pairs(contact%pair(c))%scheme /= scheme_nts) cycle
-                associate (xs => x(:, contact%node(c)), n => contact%normal(:, c))
-                    box = [xs(1) - radius, xs(2) - radius, xs(1) + radius, xs(2) + radius]
-                    stamp = stamp + 1
-                    call query_grid(grid, box, stamp, marker, found, nfound)
-                    best = huge(1.0_dp)
-                    best_k = 0
-                    best_lambda = 0.0_dp
-                    do kk = 1, nfound
-                        km = found(kk)
-                        if (.not. mseg_on(km)) cycle
-                        if (contact%mseg_pair(km) /= contact%pair(c)) cycle
-                        associate (xc => x(:, contact%mseg(1, km)), &
-                                   xd => x(:, contact%mseg(2, km)))
-                            if (dot_product(face_normal(xc, xd), n) >= 0.0_dp) cycle
-                            call project_node(xs, n, xc, xd, lambda, distance, hit)
-                        end associate
-                        if (.not. hit .or. abs(distance) > radius) cycle
-                        if (abs(distance) < best) then
-                            best = abs(distance)
-                            best_k = km
-                            best_lambda = lambda
-                        end if
-                    end do
-                end associate
+                call nearest_master(c, best_k, lambda)
                 if (best_k == 0) cycle
                 contact%w(c) = contact%wref(c)
                 call add(c, contact%node(c), contact%wref(c))
-                call add(c, contact%mseg(1, best_k), -contact%wref(c)*(1.0_dp - best_lambda))
-                call add(c, contact%mseg(2, best_k), -contact%wref(c)*best_lambda)
+                call add(c, contact%mseg(1, best_k), -contact%wref(c)*(1.0_dp - lambda))
+                call add(c, contact%mseg(2, best_k), -contact%wref(c)*lambda)
             end do
         end subroutine node_to_segment
+
+        !> The active facing master segment of c's pair straight across slave node c along its
+        !> normal, the nearest within the search radius (0: none), and where it is hit.
+        subroutine nearest_master(c, best_k, best_lambda)
+            integer, intent(in) :: c
+            integer, intent(out) :: best_k
+            real(dp), intent(out) :: best_lambda
+            real(dp) :: lambda, distance, best
+            logical :: hit
+            associate (xs => x(:, contact%node(c)), n => contact%normal(:, c))
+                box = [xs(1) - radius, xs(2) - radius, xs(1) + radius, xs(2) + radius]
+                stamp = stamp + 1
+                call query_grid(grid, box, stamp, marker, found, nfound)
+                best = huge(1.0_dp)
+                best_k = 0
+                best_lambda = 0.0_dp
+                do kk = 1, nfound
+                    km = found(kk)
+                    if (.not. mseg_on(km)) cycle
+                    if (contact%mseg_pair(km) /= contact%pair(c)) cycle
+                    associate (xc => x(:, contact%mseg(1, km)), &
+                               xd => x(:, contact%mseg(2, km)))
+                        if (dot_product(face_normal(xc, xd), n) >= 0.0_dp) cycle
+                        call project_node(xs, n, xc, xd, lambda, distance, hit)
+                    end associate
+                    if (.not. hit .or. abs(distance) > radius) cycle
+                    if (abs(distance) < best) then
+                        best = abs(distance)
+                        best_k = km
+                        best_lambda = lambda
+                    end if
+                end do
+            end associate
+        end subroutine nearest_master
+
+        !> Friction per master segment (docs/theory.md section 14): in a frictional mortar
+        !> pair whose mean active slave face is friction_group_ratio times shorter than its
+        !> mean active master face, the supported slave nodes straight across one master
+        !> segment form a group that shares one tangential traction and one Coulomb law.
+        subroutine friction_groups()
+            real(dp), allocatable :: ls(:, :), lm(:, :)
+            integer, allocatable :: key(:), members(:), next(:)
+            real(dp) :: lambda
+            integer :: np, best_k, g
+            np = size(model%contact_pairs)
+            allocate (ls(2, np), lm(2, np), source=0.0_dp)
+            do k = 1, size(contact%seg, 2)
+                if (.not. seg_on(k)) cycle
+                ip = contact%pair(contact%seg(1, k))
+                ls(:, ip) = ls(:, ip) + [norm2(x(:, contact%node(contact%seg(2, k))) - &
+                                               x(:, contact%node(contact%seg(1, k)))), 1.0_dp]
+            end do
+            do k = 1, size(contact%mseg, 2)
+                if (.not. mseg_on(k)) cycle
+                ip = contact%mseg_pair(k)
+                lm(:, ip) = lm(:, ip) + [norm2(x(:, contact%mseg(2, k)) - &
+                                               x(:, contact%mseg(1, k))), 1.0_dp]
+            end do
+            allocate (key(contact%nc), source=0)
+            allocate (members(size(contact%mseg, 2)), source=0)
+            do c = 1, contact%nc
+                ip = contact%pair(c)
+                if (.not. contact%placed(c) .or. contact%w(c) <= 0.0_dp) cycle
+                if (model%contact_pairs(ip)%scheme == scheme_nts .or. &
+                    .not. model%contact_pairs(ip)%friction > 0.0_dp) cycle
+                if (ls(2, ip) <= 0.0_dp .or. lm(2, ip) <= 0.0_dp) cycle
+                if (lm(1, ip)/lm(2, ip) < friction_group_ratio*ls(1, ip)/ls(2, ip)) cycle
+                call nearest_master(c, best_k, lambda)
+                if (best_k == 0) best_k = closest_master(c)
+                if (best_k == 0) cycle
+                key(c) = best_k
+                members(best_k) = members(best_k) + 1
+            end do
+            ! groups numbered in the order of their master segments
+            contact%ngroup = count(members > 0)
+            contact%tgroup = 0
+            deallocate (contact%grp_ptr, contact%grp_node)
+            allocate (contact%grp_ptr(contact%ngroup + 1), contact%grp_node(count(key > 0)))
+            contact%grp_ptr(1) = 1
+            g = 0
+            do k = 1, size(members)
+                if (members(k) == 0) cycle
+                g = g + 1
+                contact%grp_ptr(g + 1) = contact%grp_ptr(g) + members(k)
+                members(k) = g
+            end do
+            next = contact%grp_ptr(1:contact%ngroup)
+            do c = 1, contact%nc
+                if (key(c) == 0) cycle
+                g = members(key(c))
+                contact%tgroup(c) = g
+                contact%grp_node(next(g)) = c
+                next(g) = next(g) + 1
+            end do
+        end subroutine friction_groups
+
+        !> The active master segment of c's pair closest to slave node c (a node beyond the
+        !> ends of the master surface, straight across none of it), 0 if none in the radius.
+        integer function closest_master(c) result(best_k)
+            integer, intent(in) :: c
+            real(dp) :: lambda, distance, best
+            associate (xs => x(:, contact%node(c)))
+                box = [xs(1) - radius, xs(2) - radius, xs(1) + radius, xs(2) + radius]
+                stamp = stamp + 1
+                call query_grid(grid, box, stamp, marker, found, nfound)
+                best = radius
+                best_k = 0
+                do kk = 1, nfound
+                    km = found(kk)
+                    if (.not. mseg_on(km)) cycle
+                    if (contact%mseg_pair(km) /= contact%pair(c)) cycle
+                    associate (xc => x(:, contact%mseg(1, km)), xd => x(:, contact%mseg(2, km)))
+                        lambda = min(max(dot_product(xs - xc, xd - xc)/ &
+                                         max(dot_product(xd - xc, xd - xc), tiny(1.0_dp)), &
+                                         0.0_dp), 1.0_dp)
+                        distance = norm2(xc + lambda*(xd - xc) - xs)
+                    end associate
+                    if (distance < best) then
+                        best = distance
+                        best_k = km
+                    end if
+                end do
+            end associate
+        end function closest_master
 
         !> The triplets (c, node, a) summed into each contact node's coupling list, nodes in
         !> ascending order; w(c) = the sum of its slave coefficients.

@@ -13,9 +13,11 @@ module cfrd_card_schema
     private
 
     public :: card_schema_t, card_schemas
+    public :: title_fields, loads_header_fields
     public :: control_fields, effects_fields, node_fields, element_fields, material_fields, &
               elastic_fields, eb_fields, eb_strength_fields, creep_fields, wetting_fields, &
-              goodman_fields, interface_fields, slab_fields, stage_fields, load_stage_fields, &
+              goodman_fields, pjoint_fields, plinth_fields, interface_fields, slab_fields, &
+              stage_fields, load_stage_fields, &
               water_stage_fields, wet_stage_fields, surface_fields, pair_fields, reservoir_fields, &
               gauge_fields, boundary_fields, gravity_fields, force_fields, pressure_fields
 
@@ -43,6 +45,11 @@ module cfrd_card_schema
     character(len=*), parameter :: a_count = 'a count >= 1 (or blank)'
     character(len=*), parameter :: a_face = 'a face from 1 to 4'
 
+    !> Header cards that carry a value: the TITLE card's title and a LOADS set's name.
+    type(field_t), parameter :: title_fields(2) = [field_t('KEYWORD', 1, 10, text_field), &
+                                                   field_t('TITLE', 11, 70, text_field)]
+    type(field_t), parameter :: loads_header_fields(2) = [ &
+        field_t('KEYWORD', 1, 10, text_field), field_t('NAME', 11, 10, text_field)]
     type(field_t), parameter :: control_fields(11) = [ &
         field_t('NNODE', 1, 5, int_field, lo=0.0_dp, expected=a_count, found=found_value), &
         field_t('NELEM', 6, 5, int_field, lo=0.0_dp, expected=a_count, found=found_value), &
@@ -118,8 +125,9 @@ module cfrd_card_schema
 
     type(field_t), parameter :: material_fields(3) = [ &
         field_t('M', 1, 5, int_field), &
-        field_t('LAW', 6, 10, text_field, words='ELASTIC EB GOODMAN', &
-                expected='a material law: ELASTIC, EB or GOODMAN', found=found_upper), &
+        field_t('LAW', 6, 10, text_field, words='ELASTIC EB GOODMAN PJOINT', &
+                expected='a material law: ELASTIC, EB, GOODMAN or PJOINT', &
+                found=found_upper), &
         field_t('LABEL', 16, 65, text_field)]
     !> ELASTIC: E and NU blank fail their checks, quoted as '(blank)'.
     !> FT blank: no tensile strength given, no crack-risk ratio (docs/theory.md section 13).
@@ -197,6 +205,15 @@ module cfrd_card_schema
                 expected='0 (tension carried with KNT) or 1 (tension cut-off)', &
                 found=found_value)]
 
+    !> PJOINT card 2: the perimetric joint's stiffnesses (docs/theory.md section 12).
+    type(field_t), parameter :: pjoint_fields(3) = [ &
+        field_t('KNC', 1, 10, real_field, required=.true., lo=small, &
+                expected='a real > 0 (kPa/m)'), &
+        field_t('KNT', 11, 10, real_field, required=.true., lo=small, &
+                expected='a real > 0 (kPa/m)'), &
+        field_t('KS', 21, 10, real_field, required=.true., lo=small, &
+                expected='a real > 0 (kPa/m)')]
+
     type(field_t), parameter :: interface_fields(10) = [ &
         field_t('LINE', 1, 5, int_field, lo=1.0_dp, expected='an interface line number >= 1'), &
         field_t('NB', 6, 5, int_field), &
@@ -210,6 +227,7 @@ module cfrd_card_schema
         field_t('RULE', 46, 10, text_field), &
         field_t('GROUP', 56, 10, text_field)]
     type(field_t), parameter :: slab_fields(1) = [field_t('GROUP', 11, 10, text_field)]
+    type(field_t), parameter :: plinth_fields(1) = [field_t('GROUP', 11, 10, text_field)]
 
     type(field_t), parameter :: stage_ninc = field_t('NINC', 21, 5, int_field, &
         default=1.0_dp, lo=1.0_dp, hi=100000.0_dp, &
@@ -310,7 +328,7 @@ contains
     !> Every card layout, named as in docs/cards.md (group section, card number).
     function card_schemas() result(cards)
         type(card_schema_t), allocatable :: cards(:)
-        allocate (cards(25))
+        allocate (cards(29))
         call set(1, 'CONTROL', 'CONTROL', 0, control_fields)
         call set(2, 'CONTROL EFFECTS', 'CONTROL', 0, effects_fields)
         call set(3, 'NODES', 'NODES', 0, node_fields)
@@ -336,6 +354,10 @@ contains
         call set(23, 'STAGES LOAD', 'STAGES', 0, load_stage_fields)
         call set(24, 'STAGES WATER', 'STAGES', 0, water_stage_fields)
         call set(25, 'STAGES WET', 'STAGES', 0, wet_stage_fields)
+        call set(26, 'TITLE', 'TITLE', 0, title_fields)
+        call set(27, 'LOADS header', 'LOADS', 0, loads_header_fields)
+        call set(28, 'MATERIALS PJOINT card 2', 'MATERIALS', 0, pjoint_fields)
+        call set(29, 'PLINTH', 'PLINTH', 0, plinth_fields)
     contains
         subroutine set(i, name, group, card, fields)
             integer, intent(in) :: i, card

@@ -9,19 +9,20 @@ module cfrd_deck
     use cfrd_model_check, only: element_shape, first_unused_node, free_rigid_mode, &
                                 shape_ok, shape_degenerate, unplaced_load
     use cfrd_cards, only: card_t, deck_lines_t, read_deck_lines, classify_line, card_error, &
-                          upper, is_comment, to_text
+                          upper, is_comment, to_text, get_text
+    use cfrd_card_schema, only: title_fields, loads_header_fields
     use cfrd_card_reader, only: position
     use cfrd_deck_groups, only: group_cards_t, counts_t, append_card, leading_word, &
                                 g_title, g_control, g_nodes, g_elements, g_materials, &
                                 g_boundary, g_loads, g_stages, g_reservoir, g_gauges, &
-                                g_interface, g_slab, g_contact, ngroups, group_keywords, &
+                                g_interface, g_slab, g_contact, g_plinth, ngroups, group_keywords, &
                                 valid_groups, group_required, load_keywords, stage_keywords, &
                                 contact_keywords, effects_keyword, creep_keyword, &
                                 wetting_keyword
     use cfrd_deck_control, only: read_control, apply_deck_effects
     use cfrd_deck_materials, only: read_materials
     use cfrd_deck_mesh, only: read_nodes, read_elements
-    use cfrd_deck_interface, only: read_interface, read_slab
+    use cfrd_deck_interface, only: read_interface, read_slab, read_plinth
     use cfrd_deck_contact, only: read_contact
     use cfrd_deck_loads, only: read_boundary, read_loads
     use cfrd_deck_reservoir, only: read_reservoir, read_gauges
@@ -73,6 +74,8 @@ contains
         if (allocated(error)) return
         call read_boundary(path, groups(g_boundary), model, error)
         if (allocated(error)) return
+        call read_plinth(path, groups(g_plinth), model, error)
+        if (allocated(error)) return
         allocate (model%load_sets(size(load_groups)))
         do i = 1, size(load_groups)
             call read_loads(path, load_groups(i), model, model%load_sets(i), error)
@@ -120,8 +123,8 @@ contains
                 g = position(group_keywords, word)
                 if (g == g_loads .and. .not. card%free) then
                     ! LOADS groups are load sets, told apart by the name in columns 11-20.
-                    name = ''
-                    if (len(text) > 10) name = upper(trim(adjustl(text(11:min(20, len(text))))))
+                    call get_text(card, loads_header_fields, 2, name)
+                    name = upper(name)
                     k = 0
                     if (len(name) == 0) then
                         k = 1
@@ -165,7 +168,8 @@ contains
                     groups(g)%present = .true.
                     groups(g)%header_line = line
                     current = g
-                    if (g == g_title .and. len(text) > 10) title = trim(adjustl(text(11:)))
+                    if (g == g_title .and. len(text) > 10) &
+                        call get_text(card, title_fields, 2, title)
                     cycle
                 end if
                 if (.not. ((current < 0 .and. any(load_keywords == word)) .or. &

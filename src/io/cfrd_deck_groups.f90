@@ -8,25 +8,25 @@ module cfrd_deck_groups
 
     public :: group_cards_t, counts_t, append_card, leading_word, check_numbering
     public :: g_title, g_control, g_nodes, g_elements, g_materials, g_boundary, g_loads, &
-              g_stages, g_reservoir, g_gauges, g_interface, g_slab, g_contact, ngroups
+              g_stages, g_reservoir, g_gauges, g_interface, g_slab, g_contact, g_plinth, ngroups
     public :: group_keywords, valid_groups, group_required, load_keywords, stage_keywords, &
               contact_keywords, effects_keyword, creep_keyword, wetting_keyword, max_number
 
     integer, parameter :: g_title = 1, g_control = 2, g_nodes = 3, g_elements = 4, &
                           g_materials = 5, g_boundary = 6, g_loads = 7, g_stages = 8, &
                           g_reservoir = 9, g_gauges = 10, g_interface = 11, g_slab = 12, &
-                          g_contact = 13, ngroups = 13
+                          g_contact = 13, g_plinth = 14, ngroups = 14
     character(len=10), parameter :: group_keywords(ngroups) = [character(len=10) :: &
                                     'TITLE', 'CONTROL', 'NODES', 'ELEMENTS', 'MATERIALS', &
                                     'BOUNDARY', 'LOADS', 'STAGES', 'RESERVOIR', 'GAUGES', &
-                                    'INTERFACE', 'SLAB', 'CONTACT']
+                                    'INTERFACE', 'SLAB', 'CONTACT', 'PLINTH']
     character(len=*), parameter :: valid_groups = 'TITLE, CONTROL, NODES, ELEMENTS, '// &
                                    'MATERIALS, BOUNDARY, LOADS, STAGES, RESERVOIR, GAUGES, '// &
-                                   'INTERFACE, SLAB, CONTACT, END'
+                                   'INTERFACE, SLAB, CONTACT, PLINTH, END'
     logical, parameter :: group_required(ngroups) = [.false., .false., .true., .true., &
                                                      .true., .true., .false., .false., &
                                                      .false., .false., .false., .false., &
-                                                     .false.]
+                                                     .false., .false.]
     character(len=10), parameter :: load_keywords(3) = [character(len=10) :: 'GRAVITY', &
                                                         'FORCE', 'PRESSURE']
     character(len=10), parameter :: stage_keywords(6) = [character(len=10) :: 'FILL', &

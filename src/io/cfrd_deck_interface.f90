@@ -1,21 +1,22 @@
-!> INTERFACE and SLAB: the lines of node pairs between the face slab and the cushion, whose
+!> INTERFACE, SLAB and PLINTH: the lines of node pairs between the face slab and the cushion, whose
 !> joints or thin layers are appended to the mesh, and the element groups of the face slab.
 !> The fields are read and checked against the card schema; here remain the checks against
 !> the mesh and materials, the generation of pairs and the geometry of the new elements.
 module cfrd_deck_interface
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, input_error
-    use cfrd_model, only: model_t, mesh_t, law_goodman, elem_quad4, elem_joint_gauss, &
-                          elem_joint_lobatto, interface_element_t, method_joint, method_thin
+    use cfrd_model, only: model_t, mesh_t, is_joint_law, elem_quad4, elem_joint_gauss, &
+                          elem_joint_lobatto, interface_element_t, method_joint, method_thin, &
+                          is_joint_kind
     use cfrd_model_check, only: layer_thickness
-    use cfrd_cards, only: field_error, card_error, upper, to_text
-    use cfrd_card_schema, only: interface_fields, slab_fields
+    use cfrd_cards, only: field_error, card_error, upper, to_text, field_t
+    use cfrd_card_schema, only: interface_fields, slab_fields, plinth_fields
     use cfrd_card_reader, only: card_values_t, read_card, raw_text, position, group_list
     use cfrd_deck_groups, only: group_cards_t
     implicit none
     private
 
-    public :: read_interface, read_slab
+    public :: read_interface, read_slab, read_plinth
 
     !> The methods in the order of the words of field TYPE.
     integer, parameter :: methods(2) = [method_joint, method_thin]
@@ -33,7 +34,7 @@ contains
         type(error_t), allocatable, intent(out) :: error
         integer, allocatable :: pair_line(:), pair_bottom(:), pair_top(:), pair_card(:), &
                                 card_mat(:), card_kind(:), card_method(:), card_group(:), &
-                                lines(:), new_conn(:, :)
+                                lines(:), new_conn(:, :), new_cards(:, :)
         character(len=:), allocatable :: ctx, text
         type(card_values_t) :: v
         integer :: i, g, line, nb, nt, ngen, incb, inct, k, np, a, b, nnew, e, nelem0, c
@@ -93,11 +94,11 @@ contains
                 call read_card(file, card, interface_fields, ctx, v, error, only=[8, 9, 10])
                 if (allocated(error)) return
                 card_method(i) = methods(v%int(8))
-                if ((model%materials(card_mat(i))%law == law_goodman) .neqv. &
+                if (is_joint_law(model%materials(card_mat(i))%law) .neqv. &
                     (card_method(i) == method_joint)) then
                     call field_error(error, file, card, interface_fields, 7, ctx, &
-                                     trim(merge('a GOODMAN material for a JOINT         ', &
-                                                'a solid material (not GOODMAN) for THIN', &
+                                     trim(merge('a GOODMAN or PJOINT material for a JOINT', &
+                                                'a solid material (not a joint) for THIN ', &
                                                 card_method(i) == method_joint)), &
                                      raw_text(card, interface_fields, 7))
                     return
@@ -143,7 +144,7 @@ contains
         end do
         ! Elements between consecutive pairs of each line, lines in order of appearance.
         nelem0 = model%mesh%nelem
-        allocate (new_conn(4, 0))
+        allocate (new_conn(4, 0), new_cards(2, 0))
         do k = 1, size(lines)
             np = 0
             a = 0
@@ -154,6 +155,8 @@ contains
                     c = pair_card(a)
                     new_conn = reshape([new_conn, pair_bottom(a), pair_bottom(i), pair_top(i), &
                                         pair_top(a)], [4, size(new_conn, 2) + 1])
+                    new_cards = reshape([new_cards, pair_card(a), pair_card(i)], &
+                                        [2, size(new_cards, 2) + 1])
                     model%interfaces = [model%interfaces, interface_element_t( &
                                         element=nelem0 + size(new_conn, 2), line=lines(k), &
                                         method=card_method(c))]
@@ -192,15 +195,25 @@ contains
                 t = t/length
                 nrm = [-t(2), t(1)]
                 if (model%interfaces(k)%method == method_joint) then
-                    gap = max(norm2(x(:, conn(4)) - x(:, conn(1))), &
-                              norm2(x(:, conn(3)) - x(:, conn(2))))
-                    if (gap > 1.0e-6_dp*length) then
-                        call fatal_error(error, file//':'//to_text(element_line(e))//': '// &
-                                         ctx//': the nodes of a pair are '// &
-                                         trim(real_text_of(gap))//' m apart; a JOINT has '// &
-                                         'zero thickness (use THIN for a layer)', input_error)
-                        return
-                    end if
+                    ! A pair whose nodes do not coincide: the error of its card's NT field.
+                    do c = 1, 2
+                        a = merge(1, 2, c == 1)
+                        b = merge(4, 3, c == 1)
+                        gap = norm2(x(:, conn(b)) - x(:, conn(a)))
+                        if (gap > 1.0e-6_dp*length) then
+                            call field_error(error, file, group%cards(new_cards(c, k)), &
+                                             interface_fields, 3, 'INTERFACE line '// &
+                                             to_text(model%interfaces(k)%line), &
+                                             'a top node at its bottom node (pair '// &
+                                             to_text(conn(a))//'/'//to_text(conn(b))// &
+                                             ': the nodes are '//trim(real_text_of(gap))// &
+                                             ' m apart; a JOINT has zero thickness, use '// &
+                                             'THIN for a layer)', &
+                                             raw_text(group%cards(new_cards(c, k)), &
+                                                      interface_fields, 3))
+                            return
+                        end if
+                    end do
                     ! The top nodes' solid elements must lie on the left (along n).
                     centre = solid_centre(model%mesh, conn(4), nelem0)
                     if (norm2(centre) < huge(1.0_dp) .and. &
@@ -301,31 +314,79 @@ contains
         type(group_cards_t), intent(in) :: group
         type(model_t), intent(inout) :: model
         type(error_t), allocatable, intent(out) :: error
+        call read_group_names(file, group, 'SLAB', slab_fields, model, model%slab_groups, error)
+    end subroutine read_slab
+
+    !> PLINTH: the element groups of the plinth, the concrete body on the rock that the
+    !> perimetric joint joins to the slab. Read after BOUNDARY: each of its solid elements
+    !> must lie on the base, with a side whose two nodes are held in x and y.
+    subroutine read_plinth(file, group, model, error)
+        character(len=*), intent(in) :: file
+        type(group_cards_t), intent(in) :: group
+        type(model_t), intent(inout) :: model
+        type(error_t), allocatable, intent(out) :: error
+        integer :: e, k, a, b
+        logical :: on_base
+        call read_group_names(file, group, 'PLINTH', plinth_fields, model, &
+                              model%plinth_groups, error)
+        if (allocated(error)) return
+        do e = 1, model%mesh%nelem
+            if (.not. any(model%plinth_groups == model%mesh%group(e))) cycle
+            if (model%mesh%group(e) == 0) cycle
+            on_base = .false.
+            do k = 1, 4
+                a = model%mesh%conn(k, e)
+                b = model%mesh%conn(mod(k, 4) + 1, e)
+                if (a == b) cycle
+                on_base = on_base .or. (all(model%fixed(:, a)) .and. all(model%fixed(:, b)))
+            end do
+            if (is_joint_kind(model%mesh%kind(e))) on_base = .false.
+            if (.not. on_base) then
+                k = findloc(model%plinth_groups, model%mesh%group(e), dim=1)
+                call field_error(error, file, group%cards(k), plinth_fields, 1, 'PLINTH', &
+                                 'a group whose every element lies on the base (element '// &
+                                 to_text(e)//' has no side whose two nodes BOUNDARY '// &
+                                 'holds in x and y)', trim(model%mesh%group_name( &
+                                 model%mesh%group(e))))
+                return
+            end if
+        end do
+    end subroutine read_plinth
+
+    !> The cards of a group that each name an element group (SLAB, PLINTH): `groups`, the
+    !> groups' indices in the order of the cards.
+    subroutine read_group_names(file, group, what, fields, model, groups, error)
+        character(len=*), intent(in) :: file, what
+        type(group_cards_t), intent(in) :: group
+        type(field_t), intent(in) :: fields(:)
+        type(model_t), intent(in) :: model
+        integer, allocatable, intent(out) :: groups(:)
+        type(error_t), allocatable, intent(out) :: error
         character(len=:), allocatable :: name
         integer :: i, g
-        allocate (model%slab_groups(0))
+        allocate (groups(0))
         if (group%present .and. group%n == 0) then
-            call fatal_error(error, file//':'//to_text(group%header_line)//': SLAB has no '// &
-                             'group cards', input_error)
+            call fatal_error(error, file//':'//to_text(group%header_line)//': '//what// &
+                             ' has no group cards', input_error)
             return
         end if
         do i = 1, group%n
             associate (card => group%cards(i))
-                name = raw_text(card, slab_fields, 1)
+                name = raw_text(card, fields, 1)
                 g = position(model%mesh%group_name, upper(name))
                 if (g == 0) then
-                    call field_error(error, file, card, slab_fields, 1, 'SLAB', &
+                    call field_error(error, file, card, fields, 1, what, &
                                      'an element group ('//group_list(model%mesh%group_name)// &
                                      ')', name)
                     return
                 end if
-                if (any(model%slab_groups == g)) then
-                    call field_error(error, file, card, slab_fields, 1, 'SLAB', &
+                if (any(groups == g)) then
+                    call field_error(error, file, card, fields, 1, what, &
                                      'a group not listed before', name)
                     return
                 end if
-                model%slab_groups = [model%slab_groups, g]
+                groups = [groups, g]
             end associate
         end do
-    end subroutine read_slab
+    end subroutine read_group_names
 end module cfrd_deck_interface

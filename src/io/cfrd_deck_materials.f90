@@ -1,15 +1,17 @@
 !> MATERIALS: a card naming each material and its law, then the law's parameter cards
-!> (ELASTIC one, EB two and optional CREEP and WETTING cards, GOODMAN one), each read and
+!> (ELASTIC one, EB two and optional CREEP and WETTING cards, GOODMAN one,
+!> PJOINT one), each read and
 !> checked against its layout in the card schema. What is left here is the sequence of the
 !> cards and the numbering.
 module cfrd_deck_materials
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t
-    use cfrd_model, only: model_t, material_t, law_elastic, law_duncan_eb, law_goodman
+    use cfrd_model, only: model_t, material_t, law_elastic, law_duncan_eb, law_goodman, &
+                          law_pjoint
     use cfrd_cards, only: card_t, get_text, field_error, card_error, upper, is_real, to_text
     use cfrd_card_schema, only: material_fields, elastic_fields, eb_fields, &
                                 eb_strength_fields, creep_fields, wetting_fields, &
-                                goodman_fields
+                                goodman_fields, pjoint_fields
     use cfrd_card_reader, only: card_values_t, read_card
     use cfrd_deck_groups, only: group_cards_t, counts_t, check_numbering, creep_keyword, &
                                 wetting_keyword
@@ -19,7 +21,7 @@ module cfrd_deck_materials
     public :: read_materials
 
     !> The laws in the order of the words of field LAW.
-    integer, parameter :: laws(3) = [law_elastic, law_duncan_eb, law_goodman]
+    integer, parameter :: laws(4) = [law_elastic, law_duncan_eb, law_goodman, law_pjoint]
 
 contains
 
@@ -102,6 +104,13 @@ contains
                 call read_goodman_card(file, group%cards(i + 1), ctx, model, mats(n), error)
                 if (allocated(error)) return
                 i = i + 2
+            case (law_pjoint)
+                call read_card(file, group%cards(i + 1), pjoint_fields, ctx, v, error)
+                if (allocated(error)) return
+                mats(n)%kn_compression = v%x(1)
+                mats(n)%kn_tension = v%x(2)
+                mats(n)%ks_joint = v%x(3)
+                i = i + 2
             case default
                 call read_card(file, group%cards(i + 1), elastic_fields, ctx, v, error)
                 if (allocated(error)) return
@@ -143,6 +152,8 @@ contains
                     what = 'parameter card '//to_text(k + 1)//' of law EB'
                 else if (law == law_goodman) then
                     what = 'parameter card (KNC, KNT, K1, N1, RF1, PHI, SNMIN, CUTOFF)'
+                else if (law == law_pjoint) then
+                    what = 'parameter card (KNC, KNT, KS)'
                 else
                     what = 'parameter card (E, NU, GAMMA)'
                 end if

@@ -4,7 +4,7 @@
 module cfrd_deck_mesh
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t
-    use cfrd_model, only: model_t, law_goodman, elem_quad4, elem_quad4_shear
+    use cfrd_model, only: model_t, is_joint_law, law_name, elem_quad4, elem_quad4_shear
     use cfrd_cards, only: card_t, field_t, field_error, card_error, upper, to_text
     use cfrd_card_schema, only: node_fields, element_fields
     use cfrd_card_reader, only: card_values_t, read_card, raw_text, position
@@ -202,9 +202,11 @@ contains
                                      raw_text(card, element_fields, 6))
                     return
                 end if
-                if (model%materials(mat(i))%law == law_goodman) then
+                if (is_joint_law(model%materials(mat(i))%law)) then
                     call field_error(error, file, card, element_fields, 6, ctx, &
-                                     'a solid material: GOODMAN is the law of joints, '// &
+                                     'a solid material: '// &
+                                     law_name(model%materials(mat(i))%law)// &
+                                     ' is the law of joints, '// &
                                      'given on INTERFACE cards', raw_text(card, element_fields, 6))
                     return
                 end if

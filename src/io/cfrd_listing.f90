@@ -8,8 +8,9 @@ module cfrd_listing
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, io_error
     use cfrd_version, only: cfrd_version_string
-    use cfrd_model, only: model_t, law_name, dry_level, law_goodman, is_joint_kind, &
-                          scheme_name, search_name
+    use cfrd_model, only: model_t, law_name, dry_level, law_goodman, law_pjoint, &
+                          is_joint_kind, scheme_name, search_name, scheme_mortar
+    use cfrd_contact, only: friction_group_ratio
     use cfrd_results, only: stage_result_t
     use cfrd_stage_summary, only: stage_summary_t
     use cfrd_columns, only: csv_real, date_of, level_of, run_id_comment
@@ -17,6 +18,7 @@ module cfrd_listing
                                  write_interface_tables, &
                                  write_opening_summary
     use cfrd_effects, only: effects_text
+    use cfrd_pjoint_io, only: write_pjoint_table
     use cfrd_run_identity, only: run_identity_t
     implicit none
     private
@@ -53,6 +55,7 @@ contains
         call write_gauge_tables(unit, model, summaries)
         call write_opening_history(unit, model, summaries)
         call write_slab_history(unit, model, summaries)
+        call write_pjoint_table(unit, model, summaries)
         ! The full tables of the last stage; every stage's state is in the HDF5 file.
         call write_stage(unit, model, last, size(summaries))
         call write_solver(unit, model, summaries)
@@ -128,6 +131,9 @@ contains
                     mat%kn_tension, ' kPa/m, k1', mat%k1, ', n1', mat%n1, ', Rf1', mat%rf1, &
                     ', phi', mat%phi, ' deg, sigma_n floor', mat%sigma_n_floor, ' kPa, tension', &
                     trim(merge(' cut off        ', ' carried with kn', mat%tension_cutoff))
+                if (mat%law == law_pjoint) write (unit, '(8x,a,3es11.3,a)') &
+                    'kn compression / tension (waterstops), ks', mat%kn_compression, &
+                    mat%kn_tension, mat%ks_joint, ' kPa/m'
             end associate
         end do
         if (allocated(model%contact_pairs)) then
@@ -143,6 +149,13 @@ contains
                             size(model%surfaces(pair%master)%element), pair%friction, &
                             pair%tolerance, scheme_name(pair%scheme), search_name(pair%search), &
                             trim(merge('yes', 'no ', pair%cast))
+                        ! a slave much finer than its master: friction per master segment
+                        if (pair%friction > 0.0_dp .and. pair%scheme == scheme_mortar .and. &
+                            mean_face(pair%master) >= friction_group_ratio* &
+                            mean_face(pair%slave)) write (unit, '(7x,a,f6.1,a)') &
+                            'the slave''s faces are', mean_face(pair%master)/ &
+                            mean_face(pair%slave), ' times shorter than the master''s: '// &
+                            'friction per master segment (docs/theory.md section 14)'
                     end associate
                 end do
             end if
@@ -155,6 +168,22 @@ contains
                 end do
             end if
         end if
+    contains
+        !> The mean length of a surface's faces at the coordinates of the deck.
+        real(dp) function mean_face(k)
+            integer, intent(in) :: k
+            integer :: j, e, f
+            mean_face = 0.0_dp
+            associate (surface => model%surfaces(k), mesh => model%mesh)
+                do j = 1, size(surface%element)
+                    e = surface%element(j)
+                    f = surface%face(j)
+                    mean_face = mean_face + norm2(mesh%x(:, mesh%conn(mod(f, 4) + 1, e)) - &
+                                                  mesh%x(:, mesh%conn(f, e)))
+                end do
+                mean_face = mean_face/max(size(surface%element), 1)
+            end associate
+        end function mean_face
     end subroutine write_model_summary
 
     !> One line per stage: what it did, how the solution went, the extreme displacements.
@@ -451,7 +480,10 @@ contains
                 end if
             end associate
         end do
-        if (size(stage%singular_nodes) == 0) return
+        if (size(stage%singular_nodes) == 0) then
+            write (unit, '(a)') '  no slab node is held by a support: no element left out'
+            return
+        end if
         write (unit, '(a,i0,a,i0,a)') '  left out: ', stage%extremes(1)%left_out, ' slab and ', &
             stage%extremes(2)%left_out, ' rockfill elements with their centroid within two'// &
             ' slab thicknesses of a slab node on a support, where the stresses are singular'// &

@@ -26,6 +26,7 @@ module cfrd_run_output
     use cfrd_interface_io, only: interface_csv_t, open_interface_csv, append_interface_csv, &
                                  close_interface_csv, write_openings_csv, has_interfaces, &
                                  has_slab, has_contact, has_openings
+    use cfrd_pjoint_io, only: has_pjoint, write_pjoint_csv
     use cfrd_legacy_listing, only: open_legacy_listing, append_legacy_stage, &
                                    close_legacy_listing
     use cfrd_files, only: move_file, delete_file, base_name, strip_extension, resolved_path, &
@@ -44,10 +45,10 @@ module cfrd_run_output
                                    previous = '.prev', lock_ending = '.lock'
     character(len=*), parameter :: incomplete_ending = incomplete
     !> Every file a run may write after the stem (DECK.out, DECK.h5, ...).
-    character(len=*), parameter :: endings(9) = [character(len=14) :: '.out', '.h5', '.xmf', &
-                                                 '-gauges.csv', '-interface.csv', &
-                                                 '-openings.csv', '-slab.csv', '-contact.csv', &
-                                                 '.lst']
+    character(len=*), parameter :: endings(10) = [character(len=14) :: '.out', '.h5', '.xmf', &
+                                                  '-gauges.csv', '-interface.csv', &
+                                                  '-openings.csv', '-slab.csv', '-contact.csv', &
+                                                  '.lst', '-pjoint.csv']
     character(len=*), parameter :: set_endings(*) = endings
 
     !> The files of a run being written.
@@ -241,7 +242,7 @@ contains
                    run_id => out%identity%run_id)
             written = [.true., .true., .true., .false., has_interfaces(model), &
                        has_openings(model), has_slab(model), has_contact(model), &
-                       out%legacy_unit /= 0]
+                       out%legacy_unit /= 0, has_pjoint(model)]
             if (allocated(model%gauges)) written(4) = size(model%gauges) > 0
             files = ''
             do k = 1, size(endings)
@@ -267,6 +268,8 @@ contains
             if (.not. allocated(error) .and. written(6)) &
                 call write_openings_csv(stem//'-openings.csv'//part, model, summaries, error, &
                                         run_id)
+            if (.not. allocated(error) .and. written(10)) &
+                call write_pjoint_csv(stem//'-pjoint.csv'//part, model, summaries, error, run_id)
             if (.not. allocated(error)) call replace_set(stem, written, error)
             if (allocated(error)) then
                 call discard_output(out)

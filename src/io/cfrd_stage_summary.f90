@@ -1,12 +1,14 @@
-!> What the listing, the terminal summary and the gauge and opening CSV files need of a stage
-!> once its full results have been streamed to the HDF5 file: its scalars, the extreme
-!> displacements since placement with their nodes, the gauges' displacements and the slab
-!> openings. A few hundred bytes a stage, so a run keeps one per stage and the full
-!> stage_result_t of the last stage only (docs/results.md, "Streaming").
+!> What the listing, the terminal summary and the gauge, opening and perimetric-joint CSV
+!> files need of a stage once its full results have been streamed to the HDF5 file: its
+!> scalars, the extreme displacements since placement with their nodes, the gauges'
+!> displacements, the slab openings and the perimetric joints. A few hundred bytes a stage,
+!> so a run keeps one per stage and the full stage_result_t of the last stage only
+!> (docs/results.md, "Streaming").
 module cfrd_stage_summary
     use cfrd_kinds, only: dp
     use cfrd_model, only: model_t
-    use cfrd_results, only: results_t, stage_result_t, opening_t, solver_stats_t, slab_result_t
+    use cfrd_results, only: results_t, stage_result_t, opening_t, solver_stats_t, &
+                            slab_result_t, pjoint_result_t
     implicit none
     private
 
@@ -31,6 +33,7 @@ module cfrd_stage_summary
         type(opening_t), allocatable :: openings(:)    !! per line and slab phase
         !> the slab's sections (N, V, M, fibre stresses, crack-risk ratio), no Gauss points
         type(slab_result_t) :: slab
+        type(pjoint_result_t) :: pjoint                !! the perimetric joints
         type(solver_stats_t) :: stats
     end type stage_summary_t
 
@@ -77,6 +80,7 @@ contains
                                                          summary%slab%y, summary%slab%s, &
                                                          summary%slab%sigma_t, summary%slab%tau, &
                                                          summary%slab%active)
+        summary%pjoint = stage%pjoint
         summary%stats = stage%stats
     end function summarise
 

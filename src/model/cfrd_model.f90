@@ -12,6 +12,7 @@ module cfrd_model
     public :: stage_kind_name, no_date, has_creep, has_wetting, stage_wet
     public :: wet_face_t, gauge_t, dry_level
     public :: plane_strain, axisymmetric, law_elastic, law_duncan_eb, law_goodman, all_groups
+    public :: law_pjoint, is_joint_law
     public :: elem_quad4, elem_quad4_shear, elem_joint_gauss, elem_joint_lobatto, is_joint_kind
     public :: interface_element_t, method_joint, method_thin, method_name
     public :: newtop_count, newtop_zero, solver_midpoint, solver_euler, solver_newton
@@ -27,6 +28,7 @@ module cfrd_model
     integer, parameter :: law_elastic = 1
     integer, parameter :: law_duncan_eb = 2
     integer, parameter :: law_goodman = 3    !! interface law of zero-thickness joints
+    integer, parameter :: law_pjoint = 4     !! perimetric joint: bilinear normal, linear shear
 
     !> Stage kinds (STAGES cards).
     integer, parameter :: stage_fill = 1    !! activate an element group under its own weight
@@ -97,6 +99,9 @@ module cfrd_model
         real(dp) :: k1 = 0.0_dp, n1 = 0.0_dp, rf1 = 0.0_dp, phi = 0.0_dp
         real(dp) :: sigma_n_floor = 0.0_dp, gamma_w = 9.81_dp
         logical :: tension_cutoff = .false.
+        !> Perimetric joint (law PJOINT): kn_compression, kn_tension above and the linear
+        !> shear stiffness ks (kPa/m)
+        real(dp) :: ks_joint = 0.0_dp
         !> E-B: the unload-reload modulus where the stress state falls below its past
         !> maximum (off by the EFFECTS card: the loading modulus always, no history kept)
         logical :: unload = .true.
@@ -254,6 +259,7 @@ module cfrd_model
         !> INTERFACE cards: the interface elements in line order
         type(interface_element_t), allocatable :: interfaces(:)
         integer, allocatable :: slab_groups(:)          !! SLAB cards: element groups
+        integer, allocatable :: plinth_groups(:)        !! PLINTH cards: element groups
         !> CONTACT cards: surfaces and the pairs between them (none: no contact at all)
         type(contact_surface_t), allocatable :: surfaces(:)
         type(contact_pair_t), allocatable :: contact_pairs(:)
@@ -279,10 +285,18 @@ contains
             name = 'EB'
         case (law_goodman)
             name = 'GOODMAN'
+        case (law_pjoint)
+            name = 'PJOINT'
         case default
             name = 'UNKNOWN'
         end select
     end function law_name
+
+    !> Whether a material law is one of a zero-thickness joint (GOODMAN, PJOINT).
+    pure logical function is_joint_law(law)
+        integer, intent(in) :: law
+        is_joint_law = law == law_goodman .or. law == law_pjoint
+    end function is_joint_law
 
     !> Whether an element kind is a zero-thickness joint.
     pure logical function is_joint_kind(kind)

@@ -7,6 +7,7 @@ module cfrd_results
 
     public :: stage_result_t, results_t, solver_stats_t
     public :: interface_result_t, opening_t, slab_result_t, contact_result_t, body_extremes_t
+    public :: pjoint_result_t
 
     !> Figures of the linear solves, for the listing and the benchmark.
     type :: solver_stats_t
@@ -127,6 +128,21 @@ module cfrd_results
         real(dp) :: max_fibre = 0.0_dp                !! slab: kPa, the larger fibre stress there
         integer :: left_out = 0                       !! active elements left out
     end type body_extremes_t
+    !> The perimetric joints (INTERFACE lines of PJOINT material; docs/theory.md section
+    !> 12), one entry per line: the relative displacements of the slab
+    !> side over the plinth side averaged over the line's length, in the joint's frame:
+    !> opening along n (the slab moving away from the plinth), settlement along t (the
+    !> slab moving across the joint, normal to the face, when the line runs from the face
+    !> inwards), and the shear along the joint, out of the section's plane (0 in plane
+    !> strain); with the mean tractions. Since the joint's placement.
+    type :: pjoint_result_t
+        integer, allocatable :: line(:)                  !! (npjoint) interface line number
+        logical, allocatable :: active(:)                !! (npjoint) every element placed
+        real(dp), allocatable :: opening(:)              !! (npjoint) m, + open
+        real(dp), allocatable :: settlement(:)           !! (npjoint) m, along t
+        real(dp), allocatable :: shear(:)                !! (npjoint) m, out of plane
+        real(dp), allocatable :: sigma_n(:), tau(:)      !! (npjoint) kPa, tension +
+    end type pjoint_result_t
 
     !> The state at the end of one stage.
     type :: stage_result_t
@@ -177,6 +193,7 @@ module cfrd_results
         type(body_extremes_t), allocatable :: extremes(:)
         integer, allocatable :: singular_nodes(:)
         real(dp), allocatable :: singular_radius(:)   !! m
+        type(pjoint_result_t) :: pjoint               !! the perimetric joints (PJOINT lines)
         real(dp) :: applied_load(2) = 0.0_dp          !! sum of applied forces, kN/m
         real(dp) :: reaction_sum(2) = 0.0_dp          !! sum of reactions, kN/m
         type(solver_stats_t) :: stats

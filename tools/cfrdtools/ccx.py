@@ -1,5 +1,5 @@
 """CalculiX: input cards, running ccx (timed, peak memory) and reading its displacements
-(shared by ccx_*.py, embankment.py and bench.py)."""
+(shared by ccx_peer.py, embankment.py and bench.py)."""
 
 import os
 import re

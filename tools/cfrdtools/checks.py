@@ -7,18 +7,19 @@ import shutil
 
 
 class Checks:
-    """check(name, ok, detail) prints the verdict line and returns ok; `status` is the exit
-    status (1 after any FAIL)."""
+    """check(name, ok, detail) prints the verdict line (not when quiet: checks that make up
+    one verdict of another) and returns ok; `status` is the exit status (1 after any FAIL)."""
 
-    def __init__(self, prefix=""):
+    def __init__(self, prefix="", quiet=False):
         self.prefix = prefix + "/" if prefix else ""
-        self.failed = 0
+        self.failed, self.quiet = 0, quiet
 
     def __call__(self, name, ok, detail=""):
         ok = bool(ok)
         self.failed += not ok
-        print(f"{'PASS' if ok else 'FAIL'} {self.prefix}{name}" + (f": {detail}" if detail
-                                                                   else ""), flush=True)
+        if not self.quiet:
+            print(f"{'PASS' if ok else 'FAIL'} {self.prefix}{name}"
+                  + (f": {detail}" if detail else ""), flush=True)
         return ok
 
     def guard(self, name, fn, *args):

@@ -5,7 +5,8 @@ import math
 
 REAL_RTOL = 1.0e-7      # relative accuracy a fixed F10 field must keep
 GROUPS = ("TITLE", "CONTROL", "NODES", "ELEMENTS", "MATERIALS", "BOUNDARY", "LOADS",
-          "STAGES", "RESERVOIR", "GAUGES", "INTERFACE", "SLAB", "CONTACT", "END", "STOP")
+          "STAGES", "RESERVOIR", "GAUGES", "INTERFACE", "SLAB", "CONTACT", "PLINTH", "END",
+          "STOP")
 
 
 class FieldOverflow(ValueError):
@@ -120,6 +121,18 @@ def free(*values):
                            for v in values)
 
 
+EFFECTS = ("ROCKFILL", "UNLOAD", "WATER", "INTERFACE", "FRICTION", "SLIP", "PHASES")
+
+
+def with_effects(text, **switch):
+    """The deck text with an EFFECTS card (A10 fields after the keyword, blank = the default;
+    switch: field -> value) after its CONTROL header (the group takes it anywhere)."""
+    lines = text.split("\n")
+    k = next(i for i, line in enumerate(lines) if line.rstrip() == "CONTROL")
+    card = "EFFECTS   " + "".join(f"{switch.get(f, ''):<10s}" for f in EFFECTS)
+    return "\n".join(lines[:k + 1] + [card] + lines[k + 1:])
+
+
 def groups(text):
     """The data cards of a fixed-format deck by group, in order: [(GROUP, [card, ...])]
     (comment and blank cards left out; a header's own card is not among its cards)."""
@@ -142,7 +155,7 @@ def materials(text):
     for group, cards in groups(text):
         for line in cards if group == "MATERIALS" else ():
             law = line[5:15].strip().upper()
-            if line[:5].strip().isdigit() and law in ("ELASTIC", "EB", "GOODMAN"):
+            if line[:5].strip().isdigit() and law in ("ELASTIC", "EB", "GOODMAN", "PJOINT"):
                 number = int(line[:5])
                 out[number] = (law, [])
             elif number is not None:
@@ -152,7 +165,7 @@ def materials(text):
 
 def unit_weights(text):
     """{material: unit weight}: GAMMA of an EB material (columns 1-10 of its first card) or
-    an ELASTIC one (21-30); a GOODMAN joint weighs nothing."""
+    an ELASTIC one (21-30); a GOODMAN or PJOINT joint weighs nothing."""
     columns = {"EB": slice(0, 10), "ELASTIC": slice(20, 30)}
     return {m: float(cards[0][columns[law]] or 0.0) if law in columns else 0.0
             for m, (law, cards) in materials(text).items()}

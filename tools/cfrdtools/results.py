@@ -56,6 +56,19 @@ def total(attrs, key):
     return sum(scalar(a.get(key, 0)) for a in attrs)
 
 
+def summary(f, solver=()):
+    """What the analysis did: the number of stages, their increments, factorisations and
+    Newton iterations summed, the largest max_residual, the analysis wall time and the
+    solver attributes named, summed over the stages (docs/results.md)."""
+    st = stages(f)
+    out = {key: sum(int(g.attrs[key]) for g in st)
+           for key in ("increments", "factorisations", "iterations")}
+    out.update({key: total([g["solver"].attrs for g in st], key) for key in solver})
+    out.update(stages=len(st), analysis=scalar(f["run"].attrs["wall_time"]),
+               resid=max(float(g.attrs["max_residual"]) for g in st))
+    return out
+
+
 def gauges(f):
     """(names, 0-based nodes) of the gauges."""
     return [text(n).strip() for n in f["gauges/names"][...]], f["gauges/nodes"][...] - 1

@@ -1,6 +1,8 @@
-"""Running bin/cfrd and the scripts of tools/: find the binary, write a deck, run it, time it."""
+"""Running bin/cfrd and the scripts of tools/: find the binary, write a deck, run it, time it
+(the fastest of several runs), and the machine it ran on."""
 
 import os
+import platform
 import subprocess
 import sys
 import time
@@ -48,6 +50,39 @@ def run(cfrd, deck, *args, check=True, quiet=True, limit=300):
     return done
 
 
+def best_of(cfrd, deck, repeat, longer=float("inf"), keep=lambda done: None):
+    """Run cfrd on deck up to `repeat` times; returns (the fastest run, keep(run) called as
+    soon as that run ended). A failed run is returned at once; after a run longer than
+    `longer` seconds there is no further one."""
+    best = None
+    for _ in range(repeat):
+        done = run(cfrd, deck, check=False)
+        if done.returncode != 0:
+            return done, keep(done)
+        if best is None or done.wall < best[0].wall:
+            best = done, keep(done)
+        if done.wall > longer:
+            break
+    return best
+
+
+def machine():
+    """CPU model, logical cores, memory: one line for a table's caption."""
+    def first(path, key, value):
+        try:
+            with open(path) as f:
+                return next((value(line) for line in f if line.lower().startswith(key)), None)
+        except OSError:
+            return None
+    model = first("/proc/cpuinfo", "model name", lambda ln: ln.split(":", 1)[1].strip()) \
+        or platform.processor() or "unknown CPU"
+    mem = first("/proc/meminfo", "memtotal:", lambda ln: f"{int(ln.split()[1]) / 1024 ** 2:.1f}"
+                                                         " GiB") or "unknown"
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    return f"{model}, {cores} cores available, {mem} memory, {platform.system()} " \
+           f"{platform.release()}, Python {platform.python_version()}"
+
+
 def run_text(cfrd, deck, text, **kw):
     """Write text to deck, run cfrd on it (run's keywords); returns the .h5 path."""
     run(cfrd, write_deck(deck, text), **kw)
@@ -60,6 +95,24 @@ def run_many(cfrd, decks, jobs=1, **kw):
     kw.setdefault("check", False)
     with ThreadPoolExecutor(max(1, jobs)) as pool:
         return list(pool.map(lambda d: run(cfrd, d, **kw), decks))
+
+
+def signal_when(cmd, watch, text, signum, output, timeout=300.0):
+    """Start cmd, its stdout and stderr into the file `output`; send it signum once the file
+    `watch` holds `text` (killed if that has not happened within timeout s). Returns (exit
+    status, the output, whether the signal was sent while cmd ran)."""
+    with open(output, "w") as fh:
+        proc = subprocess.Popen(cmd, stdout=fh, stderr=subprocess.STDOUT)
+    sent, end = False, time.monotonic() + timeout
+    while not sent and time.monotonic() < end and proc.poll() is None:
+        sent = os.path.exists(watch) and text in open(watch).read()
+        if sent:
+            proc.send_signal(signum)
+        else:
+            time.sleep(0.01)
+    if not sent and proc.poll() is None:
+        proc.kill()
+    return proc.wait(), open(output).read(), sent
 
 
 def tool(name, *args, check=False, env=None):
