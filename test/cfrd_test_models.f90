@@ -2,11 +2,12 @@
 !> independently of the deck reader.
 module cfrd_test_models
     use cfrd_kinds, only: dp
-    use cfrd_model, only: model_t, material_t, pressure_load_t, elem_quad4
+    use cfrd_model, only: model_t, material_t, pressure_load_t, elem_quad4, law_goodman
     implicit none
     private
 
     public :: new_model, elastic_material, add_pressure, relative_imbalance, edge_traction
+    public :: linear_joint
 
 contains
 
@@ -45,6 +46,22 @@ contains
         mat%poisson_ratio = nu
         mat%unit_weight = unit_weight
     end function elastic_material
+
+    !> A Goodman material with constant stiffnesses: n1 = 0 and Rf1 = 0 make ks = k1 gamma_w.
+    pure function linear_joint(kn, ks) result(mat)
+        real(dp), intent(in) :: kn, ks
+        type(material_t) :: mat
+        mat%law = law_goodman
+        mat%label = 'joint'
+        mat%kn_compression = kn
+        mat%kn_tension = kn
+        mat%k1 = ks/9.81_dp
+        mat%gamma_w = 9.81_dp
+        mat%n1 = 0.0_dp
+        mat%rf1 = 0.0_dp
+        mat%phi = 45.0_dp
+        mat%sigma_n_floor = 10.0_dp
+    end function linear_joint
 
     subroutine add_pressure(model, element, face, p1, p2)
         type(model_t), intent(inout) :: model

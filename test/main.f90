@@ -16,6 +16,7 @@ program cfrd_tests
     use test_core_sha256, only: collect_core_sha256
     use test_analysis_water, only: collect_analysis_water
     use test_analysis_interface, only: collect_analysis_interface
+    use test_analysis_slab, only: collect_analysis_slab
     use test_contact_mortar, only: collect_contact_mortar
     use test_contact_hertz, only: collect_contact_hertz
     use test_analysis_increment, only: collect_analysis_increment
@@ -79,6 +80,10 @@ program cfrd_tests
     if (wanted('analysis_interface')) then
         call collect_analysis_interface(tests)
         call run_suite('analysis_interface', tests, only_test, npass, nfail)
+    end if
+    if (wanted('analysis_slab')) then
+        call collect_analysis_slab(tests)
+        call run_suite('analysis_slab', tests, only_test, npass, nfail)
     end if
     if (wanted('contact_mortar')) then
         call collect_contact_mortar(tests)

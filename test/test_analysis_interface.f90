@@ -9,13 +9,13 @@ module test_analysis_interface
     use cfrd_testing, only: unittest_t, new_unittest, check, fail
     use cfrd_model, only: model_t, material_t, stage_t, stage_load, load_set_t, &
                           interface_element_t, pressure_load_t, gravity_load_t, &
-                          law_goodman, elem_quad4, elem_joint_gauss, elem_joint_lobatto, &
+                          elem_quad4, elem_joint_gauss, elem_joint_lobatto, &
                           method_joint, method_thin, solver_newton
     use cfrd_results, only: results_t
     use cfrd_stage_driver, only: run_analysis
     use cfrd_interface, only: interface_stations, phase_openings, open_gap, slab_stresses
     use cfrd_results, only: interface_result_t, opening_t, slab_result_t
-    use cfrd_test_models, only: new_model, elastic_material, edge_traction
+    use cfrd_test_models, only: new_model, elastic_material, edge_traction, linear_joint
     use cfrd_goodman, only: goodman_params_t, goodman_update, goodman_update_tangent
     implicit none
     private
@@ -41,22 +41,6 @@ contains
                 new_unittest('slab_section_resultants', test_slab_sections) &
                 ]
     end subroutine collect_analysis_interface
-
-    !> A Goodman material with constant stiffnesses: n1 = 0 and Rf1 = 0 make ks = k1 gamma_w.
-    pure function linear_joint(kn, ks) result(mat)
-        real(dp), intent(in) :: kn, ks
-        type(material_t) :: mat
-        mat%law = law_goodman
-        mat%label = 'joint'
-        mat%kn_compression = kn
-        mat%kn_tension = kn
-        mat%k1 = ks/9.81_dp
-        mat%gamma_w = 9.81_dp
-        mat%n1 = 0.0_dp
-        mat%rf1 = 0.0_dp
-        mat%phi = 45.0_dp
-        mat%sigma_n_floor = 10.0_dp
-    end function linear_joint
 
     !> Two blocks of nx x ny quads, width w, heights hb (bottom) and ht (top), the top one
     !> `gap` above the bottom one, joined by nx interface elements of kind `kind` (material 2;

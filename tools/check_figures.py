@@ -19,6 +19,8 @@ active interface stations (/interface) or the placed contact slave nodes (/conta
             nodes drawn again, with sigma_n and tau exactly zero at every stage;
   fig14     per file, (sigma_t, elevation), (tau, elevation) at the active slab Gauss points
             before the 3rd RESET;
+  fig15     (crack_ratio, section_y) of the slab sections placed (N or M not zero) at the end
+            of construction (before the 3rd RESET) and at the last stage, first file;
   table5    the paper's rows as in inputs/tianshengqiao-observed.toml; each file's bars the
             largest opening width and depth of its first two phases over all stages.
 
@@ -264,6 +266,20 @@ def check(h5paths, figdir, prefix="figures"):
             for ln in lines)]
     verdict("fig14-slab", not bad and told, f"stages {told}: (sigma_t, elevation) and (tau, "
             f"elevation) at the active slab Gauss points (exact)" + differ(bad))
+    # Fig. 15: the slab's crack-risk ratio along the slope, first file.
+    series = read_data(data / "fig15-crack-risk.csv")
+    picks = sorted({first.before_reset(3), len(stages) - 1})
+    bad = []
+    for i in picks:
+        r = first.group(i)["slab"]
+        placed = (r["axial"][...] != 0.0) | (r["moment"][...] != 0.0)
+        rows = [rows for (kind, name), rows in series.items()
+                if kind == "line" and f"(stage {i + 1}," in name]
+        if len(rows) != 1 or not same_points(xy(rows[0]), np.column_stack(
+                [r["crack_ratio"][...][placed], r["section_y"][...][placed]])):
+            bad.append(i + 1)
+    verdict("fig15-crack-risk", not bad, f"stages {[i + 1 for i in picks]}: (crack_ratio, "
+            f"section_y) of the placed slab sections (exact)" + differ(bad))
     # Table 5: bars.
     series = read_data(data / "table5-openings.csv")
     expected, ours = {}, []
@@ -290,7 +306,7 @@ def check(h5paths, figdir, prefix="figures"):
             f" the paper's from {REFERENCE.name}; the runs' largest width and depth of phases I "
             f"/ II over the stages: {'; '.join(ours)} (exact)" + differ(bad))
     pngs = sorted(p.name for p in figdir.glob("*.png"))
-    wanted = 9 if timed else 8      # fig12-openings-time with dated stages
+    wanted = 10 if timed else 9     # fig12-openings-time with dated stages
     verdict("files", len(pngs) == wanted, f"{len(pngs)} PNG files (expected {wanted}): "
             f"{', '.join(pngs)}")
     return not verdict.failed

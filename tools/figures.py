@@ -7,14 +7,14 @@
   make figures DECK=inputs/tianshengqiao-x1-joint.dat          (runs the deck first)
 
 The first file gives fig07-settlement.png and fig07-ux.png (contours at the last stage, or at
-stage N), fig09-10-gauges.png, fig11-opening.png, fig12-openings.png and
-fig12-openings-time.png; every file a curve in fig13-normal-stress.png and fig14-slab.png, a
+stage N), fig09-10-gauges.png, fig11-opening.png, fig12-openings.png, fig12-openings-time.png
+and fig15-crack-risk.png; every file a curve in fig13-normal-stress.png and fig14-slab.png, a
 row of table5-openings.png and, with a perimetric joint (PJOINT line, issue 22), its opening
 and settlement in pjoint.png. A figure is drawn when the results hold its data; a line says
 which were skipped and why. --reference: the TOML of observed and published values (default:
 the first inputs/*-observed.toml whose title_contains is in the results' title; `none`:
-without). --data also writes DIR/data/FIGURE.csv: every curve and bar as drawn (read back
-from the artists) and every contoured field, with all digits, for tools/check_figures.py.
+without). --data also writes DIR/data/FIGURE.csv: every curve and bar as drawn (read back from
+the artists) and every contoured field, with all digits, for tools/check_figures.py.
 """
 import argparse
 import csv
@@ -338,6 +338,44 @@ def slab_plot(files, names, out):
     return save(fig, out)
 
 
+def placed_sections(g):
+    """(section index mask, elevation, crack-risk ratio) of the slab sections placed at stage
+    group g: a section not yet placed has N = M = 0 exactly in the results file."""
+    r = g["slab"]
+    placed = (r["axial"][...] != 0.0) | (r["moment"][...] != 0.0)
+    return placed, r["section_y"][...][placed], r["crack_ratio"][...][placed]
+
+
+def has_crack_ratio(h5):
+    """The slab's sections carry a crack-risk ratio (an FT on the slab's ELASTIC material)."""
+    g = results.last_stage(h5)
+    return "slab" in g and "tensile_strength" in g["slab"] and \
+        bool(np.any(g["slab/tensile_strength"][...] > 0.0))
+
+
+def crack_risk_plot(h5, name, out):
+    """The slab's crack-risk ratio sigma_1 / f_t (the larger fibre stress of each section
+    over the concrete's tensile strength) along the slope, at the end of construction and at
+    the last stage (docs/theory.md section 13)."""
+    fig, ax = plt.subplots(figsize=(6, 5))
+    last = len(results.stages(h5)) - 1
+    picks = [(construction_stages(h5)[1][0], "end of construction"), (last, "last stage")]
+    for i, title in (picks if picks[0][0] != last else picks[1:]):
+        g = results.stages(h5)[i]
+        _, y, ratio = placed_sections(g)
+        ax.plot(ratio, y, ".-", ms=4, label=f"{title} (stage {i + 1}, "
+                f"{text(g.attrs.get('date', ''))})")
+    ax.axvline(1.0, color="k", lw=0.8, ls="--")
+    ft = results.last_stage(h5)["slab/tensile_strength"][...]
+    ax.set_xlabel(f"crack-risk ratio sigma_1 / f_t (f_t = {ft[ft > 0].min() / 1000.0:g} MPa)")
+    ax.set_ylabel("elevation (m)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    ax.set_title(f"{name}: slab crack risk along the slope\n(the larger fibre stress "
+                 "N/h +- 6M/h^2 over f_t; > 1: tension beyond f_t)", fontsize=9)
+    return save(fig, out)
+
+
 def openings_history_plot(h5, name, out, reference, years=None):
     """Width (cm) and depth (m) of each phase's opening per stage (with `years`, the
     stages' times: against time), observed maxima dashed."""
@@ -558,6 +596,8 @@ def main(argv=None):
     pick = [(f, n) for f, n in zip(files, names) if "slab" in results.last_stage(f)]
     draw("fig14-slab", not pick and "no SLAB", slab_plot, [f for f, _ in pick],
          [n for _, n in pick])
+    draw("fig15-crack-risk", not has_crack_ratio(first) and "no SLAB with FT", crack_risk_plot,
+         first, names[0])
     pick = [(f, n) for f, n in zip(files, names) if pjoint_histories(f)]
     draw("pjoint", not pick and "no perimetric joint (PJOINT line)", pjoint_plot,
          [f for f, _ in pick], [n for _, n in pick])

@@ -271,6 +271,10 @@ cases += [
  ("pjoint-nodes-apart", psub("    5    6    1       0.0       1.0       2.0       1.0", "    5    6    1       0.0      1.05       2.0      1.05"), "{f}:17:11-15: field NT of INTERFACE line 2: expected a top node at its bottom node (pair 3/5: the nodes are 5.000E-02 m apart; a JOINT has zero thickness, use THIN for a layer), found '5'"),
  ("pjoint-on-element", psub("    1    1    2    4    3    1    0    1 PLINTH", "    1    1    2    4    3    2    0    1 PLINTH"), "{f}:9:26-30: field MAT of ELEMENTS 1: expected a solid material: PJOINT is the law of joints, given on INTERFACE cards, found '2'"),
 ]
+# The slab concrete's tensile strength (issue 22): ELASTIC FT.
+cases += [
+ ("elastic-ft-negative", sub("   20000.0       0.3      20.0", "   20000.0       0.3      20.0   -2000.0"), "{f}:12:31-40: field FT of MATERIALS 1: expected a real >= 0 (kPa), found '-2000.0'"),
+]
 for old in os.listdir(P):
     os.remove(P + old)
 for i, (name, deck, expect) in enumerate(cases, 1):

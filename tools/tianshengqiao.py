@@ -164,11 +164,18 @@ class Mesh:
         return key
 
 
-def build_x1(geo, interface="bonded", plinth=False):
+def build_x1(geo, interface="bonded", plinth=False, normal_rings=None):
     """The x1 mesh: body rows with 3-to-1 transitions, the slab on the cushion face; the
     slab's inner nodes are the cushion's (bonded), matching ones paired in mesh.pairs
     (joint), moved out by the thin layer's thickness (thin, with its quads), or on rows of
     the slab's own (contact: interface.contact_elements along the slope)."""
+    # normal_rings: the slab's element ends normal to the face (rectangles along the slope,
+    # where Q4S is exact in bending), not along the body's row lines (parallelograms skewed
+    # by 54.5 deg, on which Q4S's shear stresses carry a part of the bending strain that
+    # alternates from Gauss point to Gauss point, docs/theory.md section 3); default: for
+    # the contact slab only (its own mesh). The toe's ring lies on the base either way.
+    if normal_rings is None:
+        normal_rings = interface == "contact"
     mesh = Mesh()
     y, parent = geo.mesh_lines()
     nband = len(y) - 1
@@ -265,11 +272,11 @@ def build_x1(geo, interface="bonded", plinth=False):
             if plinth and abs(yy - geo.base) < 1e-9:
                 # --plinth: the slab's end cut normal to the face, on the plinth
                 p = pl.toe_ring_point(geo, mesh.coords[inner], layer, layers)
-            elif interface == "contact" and yy > geo.base + 1e-9:
-                # The contact slab's own mesh: rings normal to the face (rectangles along
-                # the slope, no skew), but at the toe, where the ring lies on the base.
+            elif normal_rings and yy > geo.base + 1e-9:
+                # Rings normal to the face (rectangles along the slope, no skew), but at
+                # the toe, where the ring lies on the base.
                 t = geo.slab_thickness(yy) * layer / layers
-                p = (xi - t / factor, yy + t * geo.su / factor)
+                p = (xi - thin * factor - t / factor, yy + t * geo.su / factor)
             else:
                 p = (xi - thin * factor - th * layer / layers, yy)
             keys.append(mesh.point(("s", layer, tag), p))
@@ -690,7 +697,7 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
                       fa("CREEP") + "".join(fr(c[k]) for k in ("alpha", "b", "mc", "d", "l"))]
     lines += [fi(SLAB_MATERIAL) + fa("ELASTIC") + "face slab, concrete",
               "".join(fr(geo.v("slab", k)) for k in ("youngs_modulus", "poisson_ratio",
-                                                      "unit_weight"))]
+                                                      "unit_weight", "tensile_strength"))]
     v = lambda key: geo.v("interface", key)        # noqa: E731
     if interface == "thin":
         lines += [fi(THIN_MATERIAL) + fa("ELASTIC") + "thin layer between slab and cushion",
@@ -726,9 +733,9 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
         lines += [fi(pl.PJOINT_LINE) + fi(b) + fi(t) + " " * 15 + fi(nmat) + fa("JOINT")
                   + fa("LOBATTO") + fa("SLAB1") for b, t in num.pjoint]
         lines += ["PLINTH", "*         GROUP", " " * 10 + fa(pl.PLINTH_GROUP)]
-    if interface != "bonded":
-        lines += ["SLAB", "*         GROUP"] + [" " * 10 + fa(f"SLAB{phase}")
-                                                for phase in range(1, len(tops) + 1)]
+    # The slab's section forces and fibre stresses (docs/results.md) for every method.
+    lines += ["SLAB", "*         GROUP"] + [" " * 10 + fa(f"SLAB{phase}")
+                                            for phase in range(1, len(tops) + 1)]
     if interface == "contact":
         # The slab's inner faces (slave) and the body's upstream faces (master): the faces
         # whose two nodes lie on the cushion face line; independent nodes on either side.
@@ -761,12 +768,12 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
 
 
 def generate(r, geo=None, interface="bonded", face=None, face_band=6, plinth=False,
-             solver_note=None):
+             solver_note=None, normal_rings=None):
     """(geometry, numbered mesh, stages, notes) of the xr mesh, or with face the face-
     resolved one (face_split: rows and slab in `face` divisions, the body's columns at r, the
     first face_band in `face`)."""
     geo = geo or Geometry()
-    mesh = build_x1(geo, interface, plinth)
+    mesh = build_x1(geo, interface, plinth, normal_rings)
     assign_zones(geo, mesh)
     stages, notes = plan_history(geo, mesh)
     if geo.creep:
@@ -873,11 +880,14 @@ def main(argv=None):
                  args.knee)]
     for r, path, interface, knee in jobs:
         r, geo = base.at_knee(interface) if knee else (r, base)
+        # Q4S slabs (the contact deck's, or --slab-element Q4S) get element ends normal to
+        # the face: Q4S is not generated on skewed slab elements (issue 22).
         geo, num, stages, notes = generate(
             r, geo, interface, args.face, args.face_band, args.plinth,
             "midpoint method: out of balance once the perimetric joint opens (relative residual"
             " up to 7 in the last water stage); use --solver newton (docs/tianshengqiao.md"
-            " s. 10)" if args.solver == "midpoint" else None)
+            " s. 10)" if args.solver == "midpoint" else None,
+            interface == "contact" or args.slab_element == "Q4S")
         if path is not None:
             info = write_deck(geo, r, num, stages, notes, path, args.solver, interface,
                               args.rule, args.slab_element,

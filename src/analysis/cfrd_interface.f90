@@ -201,8 +201,9 @@ contains
     !> Slab stresses along its axis. Each slab element's axis t is its longer pair of
     !> opposite face mid-points (pointing up, or to +x when level), n = t turned +90 deg (the
     !> water side of an upstream face with x downstream). Sections: the elements whose
-    !> centroids project to the same place on the slab's straight fit (within a quarter of
-    !> an element length) form one column across the slab; its resultants per m of dam are
+    !> centroids, carried to the slab's straight fit along each element's cross mid-line,
+    !> land at the same place (within a quarter of an element length) form one column
+    !> across the slab; its resultants per m of dam are
     !> N = int sigma_tt dA / L, V = int tau dA / L, M = int sigma_tt (zeta - zeta_c) dA / L
     !> with zeta = n . x and L the mean element length along the axis.
     subroutine slab_stresses(model, stress, active, res)
@@ -210,10 +211,11 @@ contains
         real(dp), intent(in) :: stress(:, :, :)
         logical, intent(in) :: active(:)
         type(slab_result_t), intent(out) :: res
-        real(dp), allocatable :: centre_s(:), elem_len(:), elem_t(:, :), dv(:, :), zeta(:, :)
+        real(dp), allocatable :: centre_s(:), key_s(:), elem_len(:), elem_t(:, :), dv(:, :), &
+                                 zeta(:, :)
         integer, allocatable :: order(:), section_of(:)
         real(dp) :: p(2, 4), a(2), b(2), t(2), nn(2), axis(2), origin(2), points(2, 4), &
-                    weights(4), bee(4, 8), sig(4), c(2), area, zc, tol
+                    weights(4), bee(4, 8), sig(4), c(2), w(2), area, zc, tol, ft
         integer :: ns, i, e, ig, nsec, j, m
         ns = 0
         do e = 1, model%mesh%nelem
@@ -222,12 +224,13 @@ contains
         allocate (res%element(ns))
         allocate (res%x(4, ns), res%y(4, ns), res%s(4, ns), res%sigma_t(4, ns), &
                   res%tau(4, ns), source=0.0_dp)
-        allocate (res%active(ns), centre_s(ns), elem_len(ns), elem_t(2, ns), dv(4, ns), &
-                  zeta(4, ns))
+        allocate (res%active(ns), centre_s(ns), key_s(ns), elem_len(ns), elem_t(2, ns), &
+                  dv(4, ns), zeta(4, ns))
         if (ns == 0) then
             allocate (res%section_s(0), res%section_x(0), res%section_y(0), res%thickness(0), &
                       res%axial(0), res%shear(0), res%moment(0), res%sigma_water(0), &
-                      res%sigma_cushion(0), res%section_active(0))
+                      res%sigma_cushion(0), res%tensile_strength(0), res%crack_ratio(0), &
+                      res%section_active(0))
             return
         end if
         ns = 0
@@ -253,6 +256,12 @@ contains
             nn = [-t(2), t(1)]
             c = sum(p, dim=2)/4.0_dp
             centre_s(i) = dot_product(c - origin, axis)
+            ! The column's place: the centroid carried to the axis along the element's cross
+            ! mid-line w (normal to the axis on rectangles; along the row lines when skewed),
+            ! the same for every layer of a column however skewed.
+            w = merge(b, a, norm2(a) >= norm2(b))
+            key_s(i) = centre_s(i) - dot_product(c - origin, [-axis(2), axis(1)])* &
+                       dot_product(w, axis)/dot_product(w, [-axis(2), axis(1)])
             do ig = 1, 4
                 call quad4_bmatrix(p, points(1, ig), points(2, ig), .false., bee, dv(ig, i))
                 dv(ig, i) = dv(ig, i)*weights(ig)
@@ -269,18 +278,19 @@ contains
             end do
         end do
         ! Columns across the slab.
-        order = sort_index(centre_s)
+        order = sort_index(key_s)
         allocate (section_of(ns))
         tol = 0.25_dp*minval(elem_len)
         nsec = 1
         section_of(order(1)) = 1
         do i = 2, ns
-            if (centre_s(order(i)) - centre_s(order(i - 1)) > tol) nsec = nsec + 1
+            if (key_s(order(i)) - key_s(order(i - 1)) > tol) nsec = nsec + 1
             section_of(order(i)) = nsec
         end do
         allocate (res%section_s(nsec), res%section_x(nsec), res%section_y(nsec), &
                   res%thickness(nsec), res%axial(nsec), res%shear(nsec), res%moment(nsec), &
-                  res%sigma_water(nsec), res%sigma_cushion(nsec), source=0.0_dp)
+                  res%sigma_water(nsec), res%sigma_cushion(nsec), res%tensile_strength(nsec), &
+                  res%crack_ratio(nsec), source=0.0_dp)
         allocate (res%section_active(nsec), source=.true.)
         do j = 1, nsec
             area = 0.0_dp
@@ -296,6 +306,10 @@ contains
                 res%section_x(j) = res%section_x(j) + sum(res%x(:, i))/4.0_dp
                 res%section_y(j) = res%section_y(j) + sum(res%y(:, i))/4.0_dp
                 res%thickness(j) = res%thickness(j) + elem_len(i)   ! summed lengths for now
+                ! f_t of the column: the smallest given by its elements' materials.
+                ft = model%materials(model%mesh%material(res%element(i)))%tensile_strength
+                if (ft > 0.0_dp .and. (res%tensile_strength(j) == 0.0_dp .or. &
+                                       ft < res%tensile_strength(j))) res%tensile_strength(j) = ft
             end do
             zc = zc/area
             res%section_s(j) = res%section_s(j)/m
@@ -322,6 +336,9 @@ contains
                                  6.0_dp*res%moment(j)/res%thickness(j)**2
             res%sigma_cushion(j) = res%axial(j)/res%thickness(j) - &
                                    6.0_dp*res%moment(j)/res%thickness(j)**2
+            ! sigma_1 at a face (no shear there): the larger fibre stress (theory.md s. 13).
+            if (res%tensile_strength(j) > 0.0_dp) res%crack_ratio(j) = &
+                max(res%sigma_water(j), res%sigma_cushion(j))/res%tensile_strength(j)
         end do
     contains
         !> A solid element of a SLAB group (not one of the interface elements).

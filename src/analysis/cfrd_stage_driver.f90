@@ -18,6 +18,7 @@ module cfrd_stage_driver
     use cfrd_water, only: water_forces, lowest_wet_point
     use cfrd_pjoint_results, only: perimetric_joints
     use cfrd_interface, only: interface_stations, phase_openings, slab_stresses
+    use cfrd_body_extremes, only: body_extremes
     use cfrd_contact, only: new_contact
     use cfrd_contact_constraints, only: contact_forces
     use cfrd_contact_results, only: record_contact
@@ -410,6 +411,15 @@ contains
                 if (library(mesh%kind(e))%element%components() == 4) &
                     result%principal(:, e) = principal_stresses(result%stress_centroid(:, e))
             end do
+            if (allocated(model%slab_groups)) then
+                if (size(model%slab_groups) > 0) then
+                    used = [(library(mesh%kind(e))%element%components() == 4, e=1, mesh%nelem)]
+                    if (allocated(model%interfaces)) used(model%interfaces%element) = .false.
+                    call body_extremes(model, result%principal, state%active, used, &
+                                       result%slab, result%extremes, result%singular_nodes, &
+                                       result%singular_radius)
+                end if
+            end if
             allocate (f_int(2, mesh%nnode))
             call internal_forces(model, library, state%active, state%stress, f_int)
             if (state%has_contact) then

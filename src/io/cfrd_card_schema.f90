@@ -130,12 +130,15 @@ module cfrd_card_schema
                 found=found_upper), &
         field_t('LABEL', 16, 65, text_field)]
     !> ELASTIC: E and NU blank fail their checks, quoted as '(blank)'.
-    type(field_t), parameter :: elastic_fields(3) = [ &
+    !> FT blank: no tensile strength given, no crack-risk ratio (docs/theory.md section 13).
+    type(field_t), parameter :: elastic_fields(4) = [ &
         field_t('E', 1, 10, real_field, lo=0.0_dp, lo_open=.true., &
                 expected='a real > 0 (kPa)', found=found_blank), &
         field_t('NU', 11, 10, real_field, default=-1.0_dp, lo=0.0_dp, hi=0.5_dp, &
                 hi_open=.true., expected='a real with 0 <= NU < 0.5', found=found_blank), &
         field_t('GAMMA', 21, 10, real_field, lo=0.0_dp, expected='a real >= 0 (kN/m3)', &
+                found=found_blank), &
+        field_t('FT', 31, 10, real_field, lo=0.0_dp, expected='a real >= 0 (kPa)', &
                 found=found_blank)]
     !> EB card 2; Kur blank: 2 K, a common rockfill value (reference file, [choice]).
     type(field_t), parameter :: eb_fields(7) = [ &

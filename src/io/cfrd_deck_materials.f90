@@ -117,6 +117,7 @@ contains
                 mats(n)%youngs_modulus = v%x(1)
                 mats(n)%poisson_ratio = v%x(2)
                 mats(n)%unit_weight = v%x(3)
+                mats(n)%tensile_strength = v%x(4)
                 i = i + 2
             end select
         end do

@@ -435,8 +435,7 @@ contains
                 call dataset_real2(id, 'x', r%x, 'm', 'Gauss points', st)
                 call dataset_real2(id, 'y', r%y, 'm', 'Gauss points', st)
                 call dataset_real2(id, 's', r%s, 'm', 'along the slab axis', st)
-                call dataset_real2(id, 'sigma_t', r%sigma_t, 'kPa', 'normal stress along the axis', &
-                                   st)
+                call dataset_real2(id, 'sigma_t', r%sigma_t, 'kPa', 'along the axis', st)
                 call dataset_real2(id, 'tau', r%tau, 'kPa', 'shear stress', st)
                 call dataset_real1(id, 'section_s', r%section_s, 'm', 'section centre', st)
                 call dataset_real1(id, 'thickness', r%thickness, 'm', 'section thickness', st)
@@ -444,6 +443,12 @@ contains
                 call dataset_real1(id, 'shear', r%shear, 'kN/m', 'V', st)
                 call dataset_real1(id, 'moment', r%moment, 'kN m/m', &
                                    'M, tension on the water side +', st)
+                call dataset_real1(id, 'section_x', r%section_x, 'm', 'section centre', st)
+                call dataset_real1(id, 'section_y', r%section_y, 'm', 'section centre', st)
+                call dataset_real1(id, 'sigma_water', r%sigma_water, 'kPa', 'N/h + 6M/h^2', st)
+                call dataset_real1(id, 'sigma_cushion', r%sigma_cushion, 'kPa', 'N/h - 6M/h^2', st)
+                call dataset_real1(id, 'tensile_strength', r%tensile_strength, 'kPa', 'f_t', st)
+                call dataset_real1(id, 'crack_ratio', r%crack_ratio, '-', 'sigma_1 / f_t', st)
             end associate
             call close_group(id, st)
         end if

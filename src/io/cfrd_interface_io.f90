@@ -8,7 +8,7 @@ module cfrd_interface_io
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, io_error
     use cfrd_model, only: model_t, dry_level, method_name
-    use cfrd_results, only: stage_result_t, opening_t
+    use cfrd_results, only: stage_result_t, opening_t, slab_result_t
     use cfrd_stage_summary, only: stage_summary_t
     use cfrd_columns, only: run_id_comment, csv_real, date_of, level_of
     use cfrd_strings, only: to_text
@@ -17,7 +17,7 @@ module cfrd_interface_io
 
     public :: write_opening_history, write_interface_tables, write_openings_csv
     public :: write_opening_summary, has_interfaces, has_slab, has_contact, has_openings
-    public :: phase_name
+    public :: phase_name, write_slab_history
     public :: interface_csv_t, open_interface_csv, append_interface_csv, close_interface_csv
 
     !> DECK-interface.csv and DECK-slab.csv, open while the analysis runs (unit 0: the deck
@@ -103,6 +103,43 @@ contains
             end associate
         end do
     end subroutine write_opening_history
+
+    !> Per stage, the slab's placed sections along the slope: N, V, M, the fibre stresses and
+    !> the crack-risk ratio (the full tables of every stage; the HDF5 file has the same).
+    subroutine write_slab_history(unit, model, summaries)
+        integer, intent(in) :: unit
+        type(model_t), intent(in) :: model
+        type(stage_summary_t), intent(in) :: summaries(:)
+        integer :: s, k
+        if (.not. has_slab(model)) return
+        write (unit, '(/,a,/,a,/,a)') repeat('-', 100), ' SLAB SECTIONS PER STAGE (per m '// &
+            'of dam; S along the slab axis from its lowest element; N tension +; M + = '// &
+            'tension on the water side; SIG: fibre stresses N/h +- 6M/h^2, kPa; RATIO: the '// &
+            'larger fibre stress / f_t, blank without FT)', repeat('-', 100)
+        write (unit, '(a)') '  STAGE DATE       WATER (m)  SECT      S (m)      Y (m)'// &
+            '   N (kN/m)   V (kN/m)  M (kNm/m)  SIG WATER SIG CUSHION    RATIO'
+        do s = 1, size(summaries)
+            associate (sl => summaries(s)%slab)
+                if (.not. allocated(sl%section_s)) cycle
+                do k = 1, size(sl%section_s)
+                    if (.not. sl%section_active(k)) cycle
+                    write (unit, '(i7,1x,a10,a10,i6,2f11.3,5es11.3,a9)') s, &
+                        date_of(summaries(s)), level_of(summaries(s)), k, sl%section_s(k), &
+                        sl%section_y(k), sl%axial(k), sl%shear(k), sl%moment(k), &
+                        sl%sigma_water(k), sl%sigma_cushion(k), ratio_text(sl, k)
+                end do
+            end associate
+        end do
+    end subroutine write_slab_history
+
+    !> The crack-risk ratio of section k in 9 columns, blank without f_t.
+    function ratio_text(sl, k) result(text)
+        type(slab_result_t), intent(in) :: sl
+        integer, intent(in) :: k
+        character(len=9) :: text
+        text = ''
+        if (sl%tensile_strength(k) > 0.0_dp) write (text, '(f9.3)') sl%crack_ratio(k)
+    end function ratio_text
 
     !> The largest opening width and depth of each slab phase over all stages, for the
     !> terminal summary (the paper's Table 5 quantities).
@@ -194,15 +231,18 @@ contains
         end if
         if (has_slab(model)) then
             write (unit, '(/,a,/,a,/,a)') ' SLAB SECTIONS (per m of dam; along the slab axis '// &
-                'S from its lowest element; N tension +; M + = tension on the water side)', &
+                'S from its lowest element; N tension +; M + = tension on the water side; '// &
+                'RATIO: the larger fibre stress / f_t)', &
                 '   SECT          S (m)          X (m)          Y (m)      H (m)'// &
-                '     N (kN/m)     V (kN/m)   M (kNm/m) SIG WATER (kPa) SIG CUSHION (kPa)'
+                '     N (kN/m)     V (kN/m)   M (kNm/m) SIG WATER (kPa) SIG CUSHION (kPa)'// &
+                '    RATIO'
             do k = 1, size(stage%slab%section_s)
                 if (.not. stage%slab%section_active(k)) cycle
-                write (unit, '(i7,3f15.4,f11.4,3es13.4,2es16.5)') k, stage%slab%section_s(k), &
-                    stage%slab%section_x(k), stage%slab%section_y(k), stage%slab%thickness(k), &
-                    stage%slab%axial(k), stage%slab%shear(k), stage%slab%moment(k), &
-                    stage%slab%sigma_water(k), stage%slab%sigma_cushion(k)
+                write (unit, '(i7,3f15.4,f11.4,3es13.4,2es16.5,a9)') k, &
+                    stage%slab%section_s(k), stage%slab%section_x(k), stage%slab%section_y(k), &
+                    stage%slab%thickness(k), stage%slab%axial(k), stage%slab%shear(k), &
+                    stage%slab%moment(k), stage%slab%sigma_water(k), &
+                    stage%slab%sigma_cushion(k), ratio_text(stage%slab, k)
             end do
         end if
     end subroutine write_interface_tables
@@ -233,8 +273,8 @@ contains
             csv%slab_path = stem//'-slab.csv'//suffix
             call open_csv(csv%slab_path, 'stage,label,date,water_level_m,section,s_m,x_m,'// &
                           'y_m,thickness_m,N_kN_per_m,V_kN_per_m,M_kNm_per_m,'// &
-                          'sigma_water_side_kPa,sigma_cushion_side_kPa', csv%slab_unit, error, &
-                          run_id)
+                          'sigma_water_side_kPa,sigma_cushion_side_kPa,crack_ratio', &
+                          csv%slab_unit, error, run_id)
         end if
         if (allocated(error)) call close_interface_csv(csv)
     end subroutine open_interface_csv
@@ -322,7 +362,8 @@ contains
                         csv_real(sl%section_x(k))//','//csv_real(sl%section_y(k))//','// &
                         csv_real(sl%thickness(k))//','//csv_real(sl%axial(k))//','// &
                         csv_real(sl%shear(k))//','//csv_real(sl%moment(k))//','// &
-                        csv_real(sl%sigma_water(k))//','//csv_real(sl%sigma_cushion(k))
+                        csv_real(sl%sigma_water(k))//','//csv_real(sl%sigma_cushion(k))// &
+                        ','//csv_real(sl%crack_ratio(k))
                     if (stat /= 0) then
                         call fatal_error(error, 'cannot write '//csv%slab_path//': '// &
                                          trim(msg), io_error)

@@ -14,7 +14,8 @@ module cfrd_listing
     use cfrd_results, only: stage_result_t
     use cfrd_stage_summary, only: stage_summary_t
     use cfrd_columns, only: csv_real, date_of, level_of, run_id_comment
-    use cfrd_interface_io, only: write_opening_history, write_interface_tables, &
+    use cfrd_interface_io, only: write_opening_history, write_slab_history, &
+                                 write_interface_tables, &
                                  write_opening_summary
     use cfrd_effects, only: effects_text
     use cfrd_pjoint_io, only: write_pjoint_table
@@ -53,6 +54,7 @@ contains
         call write_stage_table(unit, model, summaries)
         call write_gauge_tables(unit, model, summaries)
         call write_opening_history(unit, model, summaries)
+        call write_slab_history(unit, model, summaries)
         call write_pjoint_table(unit, model, summaries)
         ! The full tables of the last stage; every stage's state is in the HDF5 file.
         call write_stage(unit, model, last, size(summaries))
@@ -311,6 +313,12 @@ contains
                 stage%stress_centroid(:, e), stage%principal(1:2, e), stage%principal(3, e)
         end do
         call write_interface_tables(unit, model, stage)
+        if (allocated(stage%extremes)) then
+            write (unit, '(/,a,/,a)') ' EXTREME STRESSES PER BODY (at centroids; the slab''s '// &
+                'sections for its fibre stress)', &
+                ' quantity                          value   elem/sect         x (m)         y (m)'
+            call write_body_extremes(unit, model, stage)
+        end if
         write (unit, '(/,a,/,a)') ' REACTIONS (kN/m)', &
             '   NODE             RX             RY'
         do node = 1, model%mesh%nnode
@@ -400,12 +408,16 @@ contains
             node = minloc(stage%displacement_total(1, :), dim=1)
             write (unit, '(a,es14.5,i12,2f14.3)') '  min ux (-x), m             ', &
                 stage%displacement_total(1, node), node, mesh%x(:, node)
-            e = maxloc(stage%principal(1, :), dim=1)
-            write (unit, '(a,es14.5,i12,2f14.3)') '  max sigma1 (tension +), kPa', &
-                stage%principal(1, e), e, centroid(e)
-            e = minloc(stage%principal(2, :), dim=1)
-            write (unit, '(a,es14.5,i12,2f14.3)') '  min sigma3, kPa            ', &
-                stage%principal(2, e), e, centroid(e)
+            if (allocated(stage%extremes)) then
+                call write_body_extremes(unit, model, stage)
+            else
+                e = maxloc(stage%principal(1, :), dim=1)
+                write (unit, '(a,es14.5,i12,2f14.3)') '  max sigma1 (tension +), kPa', &
+                    stage%principal(1, e), e, centroid(e)
+                e = minloc(stage%principal(2, :), dim=1)
+                write (unit, '(a,es14.5,i12,2f14.3)') '  min sigma3, kPa            ', &
+                    stage%principal(2, e), e, centroid(e)
+            end if
             imbalance = norm2(stage%applied_load + stage%reaction_sum)/ &
                         max(norm2(stage%applied_load), tiny(1.0_dp))
             write (unit, '(a,2es14.5)') '  applied load (x, y), kN/m  ', stage%applied_load
@@ -443,4 +455,51 @@ contains
             c = sum(model%mesh%x(:, model%mesh%conn(:, e)), dim=2)/4.0_dp
         end function centroid
     end subroutine write_summary
+
+    !> Extreme stresses per body (slab, rockfill) at centroids, the slab's largest fibre
+    !> stress, and a note naming the singular points left out and why (docs/theory.md s. 13).
+    subroutine write_body_extremes(unit, model, stage)
+        integer, intent(in) :: unit
+        type(model_t), intent(in) :: model
+        type(stage_result_t), intent(in) :: stage
+        integer :: b, k
+        character(len=*), parameter :: fmt = '(a,es14.5,i12,2f14.3)'
+        do b = 1, size(stage%extremes)
+            associate (ex => stage%extremes(b))
+                if (ex%max_element == 0) cycle
+                write (unit, fmt) '  '//ex%body//' max sigma1, kPa  ', ex%max_sigma1, &
+                    ex%max_element, centroid_of(model, ex%max_element)
+                write (unit, fmt) '  '//ex%body//' min sigma3, kPa  ', ex%min_sigma3, &
+                    ex%min_element, centroid_of(model, ex%min_element)
+                if (ex%max_section > 0) then
+                    write (unit, '(a,es14.5,i12,2f14.3,a,f7.3,a)') &
+                        '  '//ex%body//' max fibre, kPa   ', ex%max_fibre, ex%max_section, &
+                        stage%slab%section_x(ex%max_section), &
+                        stage%slab%section_y(ex%max_section), '  (section; ratio to f_t', &
+                        stage%slab%crack_ratio(ex%max_section), ')'
+                end if
+            end associate
+        end do
+        if (size(stage%singular_nodes) == 0) then
+            write (unit, '(a)') '  no slab node is held by a support: no element left out'
+            return
+        end if
+        write (unit, '(a,i0,a,i0,a)') '  left out: ', stage%extremes(1)%left_out, ' slab and ', &
+            stage%extremes(2)%left_out, ' rockfill elements with their centroid within two'// &
+            ' slab thicknesses of a slab node on a support, where the stresses are singular'// &
+            ' (they grow as the mesh is refined; docs/theory.md section 13):'
+        write (unit, '(a,*(1x,i0))') '    nodes', stage%singular_nodes
+        associate (x => model%mesh%x(:, stage%singular_nodes))
+            write (unit, '(a,2f10.3,a,2f10.3,a,2f7.3,a)') '    x', minval(x(1, :)), &
+                maxval(x(1, :)), ' m, y', minval(x(2, :)), maxval(x(2, :)), ' m; radius', &
+                minval(stage%singular_radius), maxval(stage%singular_radius), ' m'
+        end associate
+    end subroutine write_body_extremes
+
+    function centroid_of(model, e) result(c)
+        type(model_t), intent(in) :: model
+        integer, intent(in) :: e
+        real(dp) :: c(2)
+        c = sum(model%mesh%x(:, model%mesh%conn(:, e)), dim=2)/4.0_dp
+    end function centroid_of
 end module cfrd_listing

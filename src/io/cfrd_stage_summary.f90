@@ -8,7 +8,7 @@ module cfrd_stage_summary
     use cfrd_kinds, only: dp
     use cfrd_model, only: model_t
     use cfrd_results, only: results_t, stage_result_t, opening_t, solver_stats_t, &
-                            pjoint_result_t
+                            slab_result_t, pjoint_result_t
     implicit none
     private
 
@@ -31,6 +31,8 @@ module cfrd_stage_summary
         real(dp) :: ux_max = 0.0_dp, ux_min = 0.0_dp   !! m
         real(dp), allocatable :: gauge_u(:, :)     !! (2, ngauges) m, ux, uy at the gauges
         type(opening_t), allocatable :: openings(:)    !! per line and slab phase
+        !> the slab's sections (N, V, M, fibre stresses, crack-risk ratio), no Gauss points
+        type(slab_result_t) :: slab
         type(pjoint_result_t) :: pjoint                !! the perimetric joints
         type(solver_stats_t) :: stats
     end type stage_summary_t
@@ -73,6 +75,11 @@ contains
         else
             allocate (summary%openings(0))
         end if
+        summary%slab = stage%slab
+        if (allocated(summary%slab%element)) deallocate (summary%slab%element, summary%slab%x, &
+                                                         summary%slab%y, summary%slab%s, &
+                                                         summary%slab%sigma_t, summary%slab%tau, &
+                                                         summary%slab%active)
         summary%pjoint = stage%pjoint
         summary%stats = stage%stats
     end function summarise

@@ -83,6 +83,8 @@ module cfrd_model
         real(dp) :: unit_weight = 0.0_dp     !! kN/m3, for gravity loads
         real(dp) :: youngs_modulus = 0.0_dp  !! kPa (ELASTIC)
         real(dp) :: poisson_ratio = 0.0_dp   !! - (ELASTIC)
+        !> ELASTIC: tensile strength f_t (kPa) for the slab's crack-risk ratio; 0: not given
+        real(dp) :: tensile_strength = 0.0_dp
         !> Duncan-Chang E-B parameters (law EB): K, n, Rf, Kb, m, phi0 (deg), dphi (deg),
         !> c (kPa), Kur, floor on sigma3 (kPa)
         real(dp) :: k_modulus = 0.0_dp, n_exponent = 0.0_dp, failure_ratio = 0.0_dp

@@ -6,7 +6,8 @@ module cfrd_results
     private
 
     public :: stage_result_t, results_t, solver_stats_t
-    public :: interface_result_t, opening_t, slab_result_t, contact_result_t, pjoint_result_t
+    public :: interface_result_t, opening_t, slab_result_t, contact_result_t, body_extremes_t
+    public :: pjoint_result_t
 
     !> Figures of the linear solves, for the listing and the benchmark.
     type :: solver_stats_t
@@ -109,9 +110,24 @@ module cfrd_results
         real(dp), allocatable :: moment(:)            !! (nsection) M, kN m/m, tension on the water side +
         real(dp), allocatable :: sigma_water(:)       !! (nsection) N/h + 6M/h^2, kPa
         real(dp), allocatable :: sigma_cushion(:)     !! (nsection) N/h - 6M/h^2, kPa
+        !> (nsection) f_t of the section's concrete (ELASTIC FT), kPa; 0: not given
+        real(dp), allocatable :: tensile_strength(:)
+        !> (nsection) crack-risk ratio max(sigma_water, sigma_cushion) / f_t (0 without f_t)
+        real(dp), allocatable :: crack_ratio(:)
         logical, allocatable :: section_active(:)     !! (nsection) all its elements active
     end type slab_result_t
 
+    !> Extreme centroid stresses of one body (the slab: SLAB groups; the rockfill: the other
+    !> solids) without the elements near singular points (docs/theory.md section 13).
+    type :: body_extremes_t
+        character(len=8) :: body = ''
+        integer :: max_element = 0, min_element = 0   !! 0: no element of the body active
+        real(dp) :: max_sigma1 = 0.0_dp               !! kPa, tension +
+        real(dp) :: min_sigma3 = 0.0_dp               !! kPa
+        integer :: max_section = 0                    !! slab: section of the largest fibre stress
+        real(dp) :: max_fibre = 0.0_dp                !! slab: kPa, the larger fibre stress there
+        integer :: left_out = 0                       !! active elements left out
+    end type body_extremes_t
     !> The perimetric joints (INTERFACE lines of PJOINT material; docs/theory.md section
     !> 12), one entry per line: the relative displacements of the slab
     !> side over the plinth side averaged over the line's length, in the joint's frame:
@@ -172,6 +188,11 @@ module cfrd_results
         type(opening_t), allocatable :: openings(:)   !! per line and slab phase
         type(slab_result_t) :: slab                   !! along the face slab
         type(contact_result_t) :: contact             !! at the contact pairs' slave nodes
+        !> per body (slab, rockfill; decks with SLAB cards), without the elements whose
+        !> centroid lies within singular_radius(k) of singular_nodes(k)
+        type(body_extremes_t), allocatable :: extremes(:)
+        integer, allocatable :: singular_nodes(:)
+        real(dp), allocatable :: singular_radius(:)   !! m
         type(pjoint_result_t) :: pjoint               !! the perimetric joints (PJOINT lines)
         real(dp) :: applied_load(2) = 0.0_dp          !! sum of applied forces, kN/m
         real(dp) :: reaction_sum(2) = 0.0_dp          !! sum of reactions, kN/m

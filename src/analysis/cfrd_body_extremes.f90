@@ -1,0 +1,134 @@
+!> The extreme stresses of a stage per body, the face slab (SLAB groups), the rockfill (the
+!> other solids) and the plinth (PLINTH groups, when given), without the singular points (docs/theory.md section 13): a slab node
+!> on a fixed support (the toe on the rock) is the corner of a stiff body held against a
+!> soft one, where the elastic stresses grow without bound as the mesh is refined. The
+!> elements whose centroid lies within two slab thicknesses of such a node are left out.
+!> Pure reading of the stage's state: nothing here feeds back into the analysis.
+module cfrd_body_extremes
+    use cfrd_kinds, only: dp
+    use cfrd_model, only: model_t
+    use cfrd_results, only: slab_result_t, body_extremes_t
+    implicit none
+    private
+
+    public :: body_extremes
+
+    !> The radius left out around a singular node, in slab thicknesses there [choice]: by
+    !> Saint-Venant's principle the stresses of a beam return to beam theory about one to
+    !> two depths from a local disturbance (Timoshenko and Goodier, Theory of Elasticity,
+    !> 1951, section 18).
+    real(dp), parameter :: radius_in_thicknesses = 2.0_dp
+
+contains
+
+    !> Extremes of the slab and the rockfill from the centroid principal stresses
+    !> (3, nelem) and the slab's sections; `solid(e)`: element e has stresses (no joint, no
+    !> thin layer); the singular nodes and their radii.
+    subroutine body_extremes(model, principal, active, solid, slab, extremes, nodes, radius)
+        type(model_t), intent(in) :: model
+        real(dp), intent(in) :: principal(:, :)
+        logical, intent(in) :: active(:), solid(:)
+        type(slab_result_t), intent(in) :: slab
+        type(body_extremes_t), allocatable, intent(out) :: extremes(:)
+        integer, allocatable, intent(out) :: nodes(:)
+        real(dp), allocatable, intent(out) :: radius(:)
+        logical, allocatable :: in_slab(:), in_plinth(:), near(:), on_slab(:)
+        real(dp) :: c(2)
+        integer :: e, k, b, j
+        associate (mesh => model%mesh)
+            allocate (in_slab(mesh%nelem), in_plinth(mesh%nelem), near(mesh%nelem), &
+                      on_slab(mesh%nnode))
+            in_plinth = .false.
+            do e = 1, mesh%nelem
+                in_slab(e) = solid(e) .and. any(model%slab_groups == mesh%group(e))
+                if (allocated(model%plinth_groups)) in_plinth(e) = solid(e) .and. &
+                    any(model%plinth_groups == mesh%group(e))
+            end do
+            ! Singular nodes: nodes of active slab elements held by a support.
+            on_slab = .false.
+            do e = 1, mesh%nelem
+                if (in_slab(e) .and. active(e)) on_slab(mesh%conn(:, e)) = .true.
+            end do
+            nodes = pack([(k, k=1, mesh%nnode)], on_slab .and. any(model%fixed, dim=1))
+            allocate (radius(size(nodes)))
+            do k = 1, size(nodes)
+                radius(k) = radius_in_thicknesses*thickness_at(slab, mesh%x(:, nodes(k)))
+            end do
+            near = .false.
+            do e = 1, mesh%nelem
+                c = sum(mesh%x(:, mesh%conn(:, e)), dim=2)/size(mesh%conn, 1)
+                do k = 1, size(nodes)
+                    if (norm2(c - mesh%x(:, nodes(k))) < radius(k)) near(e) = .true.
+                end do
+            end do
+            allocate (extremes(merge(3, 2, any(in_plinth))))
+            extremes(1)%body = 'slab'
+            extremes(2)%body = 'rockfill'
+            if (size(extremes) == 3) extremes(3)%body = 'plinth'
+            do b = 1, size(extremes)
+                associate (ex => extremes(b))
+                    do e = 1, mesh%nelem
+                        if (.not. (active(e) .and. solid(e))) cycle
+                        if (in_slab(e) .neqv. (b == 1)) cycle
+                        if (in_plinth(e) .neqv. (b == 3)) cycle
+                        if (near(e)) then
+                            ex%left_out = ex%left_out + 1
+                            cycle
+                        end if
+                        if (ex%max_element == 0) then
+                            ex%max_element = e
+                            ex%min_element = e
+                        end if
+                        if (principal(1, e) > principal(1, ex%max_element)) ex%max_element = e
+                        if (principal(2, e) < principal(2, ex%min_element)) ex%min_element = e
+                    end do
+                    if (ex%max_element > 0) then
+                        ex%max_sigma1 = principal(1, ex%max_element)
+                        ex%min_sigma3 = principal(2, ex%min_element)
+                    end if
+                end associate
+            end do
+            ! The slab's largest fibre stress over the sections outside the radii.
+            if (allocated(slab%section_s)) then
+                do j = 1, size(slab%section_s)
+                    if (.not. slab%section_active(j)) cycle
+                    c = [slab%section_x(j), slab%section_y(j)]
+                    if (any([(norm2(c - mesh%x(:, nodes(k))) < radius(k), &
+                              k=1, size(nodes))])) cycle
+                    if (extremes(1)%max_section == 0) then
+                        extremes(1)%max_section = j
+                    else if (fibre(j) <= extremes(1)%max_fibre) then
+                        cycle
+                    end if
+                    extremes(1)%max_section = j
+                    extremes(1)%max_fibre = fibre(j)
+                end do
+            end if
+        end associate
+    contains
+        real(dp) function fibre(j)
+            integer, intent(in) :: j
+            fibre = max(slab%sigma_water(j), slab%sigma_cushion(j))
+        end function fibre
+    end subroutine body_extremes
+
+    !> The slab's thickness at point p: that of the active section nearest to it (0 without
+    !> sections).
+    pure real(dp) function thickness_at(slab, p) result(h)
+        type(slab_result_t), intent(in) :: slab
+        real(dp), intent(in) :: p(2)
+        real(dp) :: d, best
+        integer :: j
+        h = 0.0_dp
+        best = huge(1.0_dp)
+        if (.not. allocated(slab%section_s)) return
+        do j = 1, size(slab%section_s)
+            if (.not. slab%section_active(j)) cycle
+            d = norm2([slab%section_x(j), slab%section_y(j)] - p)
+            if (d < best) then
+                best = d
+                h = slab%thickness(j)
+            end if
+        end do
+    end function thickness_at
+end module cfrd_body_extremes

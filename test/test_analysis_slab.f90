@@ -1,0 +1,257 @@
+!> The slab's section forces against beam theory (issue 22): a slab of Q4S quads on an
+!> elastic (Winkler) foundation of Goodman joints, under a point load and an axial force,
+!> against Hetenyi's closed form of the infinite beam on an elastic foundation (Hetenyi,
+!> Beams on Elastic Foundation, 1946, ch. II; docs/theory.md section 13). Built in code,
+!> independent of the deck reader.
+module test_analysis_slab
+    use cfrd_kinds, only: dp
+    use cfrd_error, only: error_t
+    use cfrd_testing, only: unittest_t, new_unittest, check, fail
+    use cfrd_model, only: model_t, stage_t, stage_load, interface_element_t, &
+                          elem_quad4_shear, elem_joint_gauss, method_joint
+    use cfrd_results, only: results_t, slab_result_t, body_extremes_t
+    use cfrd_interface, only: slab_stresses
+    use cfrd_body_extremes, only: body_extremes
+    use cfrd_stage_driver, only: run_analysis
+    use cfrd_test_models, only: new_model, elastic_material, linear_joint
+    implicit none
+    private
+
+    public :: collect_analysis_slab
+
+    real(dp), parameter :: deg = 0.017453292519943295769_dp
+
+contains
+
+    subroutine collect_analysis_slab(tests)
+        type(unittest_t), allocatable, intent(out) :: tests(:)
+        tests = [new_unittest('hetenyi_point_load', test_hetenyi), &
+                 new_unittest('extremes_without_singular_points', test_extremes), &
+                 new_unittest('skewed_columns_are_sections', test_skewed_columns)]
+    end subroutine collect_analysis_slab
+
+    !> A slab 28 m long, h = 0.6 m thick in two layers of 56 Q4S quads each (0.5 m), on its
+    !> 35 deg slope, E = 3.0e7 kPa, nu = 0 (plane strain = beam: EI = E h^3 / 12), resting on
+    !> Gauss joints (kn = k = 1.0e5 kPa/m, the foundation modulus per m of slab; ks = 1e-3 k,
+    !> all but frictionless) over fixed nodes. Loads: P = 1000 kN/m normal to the slab at
+    !> mid-length (towards the foundation), and H = 3000 kN/m pressing on both ends along the
+    !> axis. Closed form: beta = (k / (4 EI))^(1/4) = 0.4639 1/m, beta L/2 = 6.5, so the free
+    !> ends change the infinite beam's figures by e^-6.5 = 0.15 % of their peaks; with
+    !> x the distance from the load, M = -P/(4 beta) e^(-beta x) (cos beta x - sin beta x)
+    !> (the section's M is + with tension on the side away from the foundation, so the
+    !> sagging M of Hetenyi is negative here), V = sign P/2 e^(-beta x) cos beta x, N = -H,
+    !> fibre stresses N/h +- 6 M/h^2. Tolerances, set from what beam theory leaves out:
+    !> the slab's shear deformation, (E/(kappa G)) (h beta)^2 / 12 = 1.5 % of the deflection
+    !> (Timoshenko), and the element (beta l = 0.23): M and the fibre stresses' bending part
+    !> to 3 % of their peak, V to 3 % of P/2, N to 1 % of H. Measured: M 0.49 %, V 0.13 %,
+    !> N 0.05 %, fibre stresses 0.52 % of their peaks. (The slab's elements must be longer
+    !> than thick: slab_stresses takes an element's longer axis as the slab's.)
+    subroutine test_hetenyi(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(model_t) :: model
+        type(results_t) :: results
+        integer, parameter :: nx = 56
+        real(dp), parameter :: length = 28.0_dp, h = 0.6_dp, e = 3.0e7_dp, k = 1.0e5_dp, &
+                               p = 1000.0_dp, hf = 3000.0_dp
+        real(dp) :: t(2), n(2), beta, x, m_ref, v_ref, m_peak, s_load, worst(4)
+        real(dp), allocatable :: xy(:, :)
+        integer, allocatable :: conn(:, :), mat(:)
+        integer :: i, j, el, nsec
+        t = [cos(35.0_dp*deg), sin(35.0_dp*deg)]
+        n = [-t(2), t(1)]
+        ! Nodes: the slab's three rows (row j at zeta = h j / 2), then the fixed base row.
+        allocate (xy(2, 4*(nx + 1)), conn(4, 3*nx), mat(3*nx))
+        do j = 0, 2
+            do i = 0, nx
+                xy(:, node(i, j)) = length*i/nx*t + h*j/2.0_dp*n
+            end do
+        end do
+        do i = 0, nx
+            xy(:, node(i, 3)) = length*i/nx*t
+        end do
+        el = 0
+        do j = 0, 1
+            do i = 0, nx - 1
+                el = el + 1
+                conn(:, el) = [node(i, j), node(i + 1, j), node(i + 1, j + 1), node(i, j + 1)]
+                mat(el) = 1
+            end do
+        end do
+        do i = 0, nx - 1
+            el = el + 1
+            conn(:, el) = [node(i, 3), node(i + 1, 3), node(i + 1, 0), node(i, 0)]
+            mat(el) = 2
+        end do
+        call new_model(model, xy, conn, mat, [elastic_material(e, 0.0_dp, 0.0_dp), &
+                                              linear_joint(k, 1.0e-3_dp*k)])
+        model%mesh%kind(1:2*nx) = elem_quad4_shear
+        model%mesh%kind(2*nx + 1:) = elem_joint_gauss
+        model%mesh%group(1:2*nx) = 1
+        model%mesh%group_name = [character(len=10) :: 'SLAB']
+        model%slab_groups = [1]
+        allocate (model%interfaces(nx))
+        do i = 1, nx
+            model%interfaces(i) = interface_element_t(element=2*nx + i, line=1, &
+                                                      method=method_joint)
+        end do
+        allocate (model%gauges(0), model%wet_faces(0))
+        model%fixed(:, [(node(i, 3), i=0, nx)]) = .true.
+        associate (f => model%load_sets(1)%nodal_force)
+            f(:, node(nx/2, 1)) = -p*n
+            ! H on each end section, consistent nodal forces of a uniform traction.
+            do j = 0, 2
+                f(:, node(0, j)) = f(:, node(0, j)) + hf*weight(j)*t
+                f(:, node(nx, j)) = f(:, node(nx, j)) - hf*weight(j)*t
+            end do
+        end associate
+        model%stages(1) = stage_t(kind=stage_load, load_set=1, increments=1, label='HETENYI')
+        call run_analysis(model, results, error)
+        if (allocated(error)) return
+        beta = (k/(4.0_dp*e*h**3/12.0_dp))**0.25_dp
+        m_peak = p/(4.0_dp*beta)
+        associate (r => results%stages(1)%slab)
+            nsec = size(r%section_s)
+            if (nsec /= nx) then
+                call fail(error, 'expected one section per element column')
+                return
+            end if
+            ! The load's node lies between sections nx/2 and nx/2 + 1.
+            s_load = 0.5_dp*(r%section_s(nx/2) + r%section_s(nx/2 + 1))
+            worst = 0.0_dp
+            do i = 1, nsec
+                x = r%section_s(i) - s_load
+                m_ref = -m_peak*exp(-beta*abs(x))*(cos(beta*x) - sin(beta*abs(x)))
+                v_ref = sign(0.5_dp*p, x)*exp(-beta*abs(x))*cos(beta*x)
+                worst(1) = max(worst(1), abs(r%moment(i) - m_ref)/m_peak)
+                worst(2) = max(worst(2), abs(r%shear(i) - v_ref)/(0.5_dp*p))
+                worst(3) = max(worst(3), abs(r%axial(i) + hf)/hf)
+                worst(4) = max(worst(4), abs(r%sigma_water(i) - (-hf/h + 6.0_dp*m_ref/h**2))/ &
+                               (6.0_dp*m_peak/h**2), &
+                               abs(r%sigma_cushion(i) - (-hf/h - 6.0_dp*m_ref/h**2))/ &
+                               (6.0_dp*m_peak/h**2))
+            end do
+            write (*, '(a,4(es10.3,a))') '    Hetenyi: M ', 100*worst(1), ' %, V ', &
+                100*worst(2), ' %, N ', 100*worst(3), ' %, fibre stresses ', 100*worst(4), &
+                ' % of their peaks'
+            call check(error, worst(1) <= 0.03_dp, 'M within 3 % of P/(4 beta) of Hetenyi''s')
+            if (allocated(error)) return
+            call check(error, worst(2) <= 0.03_dp, 'V within 3 % of P/2 of Hetenyi''s')
+            if (allocated(error)) return
+            call check(error, worst(3) <= 0.01_dp, 'N within 1 % of H')
+            if (allocated(error)) return
+            call check(error, worst(4) <= 0.03_dp, 'fibre stresses within 3 % of 6M/h^2')
+        end associate
+    contains
+        pure integer function node(i, j)
+            integer, intent(in) :: i, j
+            node = j*(nx + 1) + i + 1
+        end function node
+        pure real(dp) function weight(j)
+            integer, intent(in) :: j
+            weight = merge(4.0_dp/6.0_dp, 1.0_dp/6.0_dp, j == 1)
+        end function weight
+    end subroutine test_hetenyi
+
+    !> Extremes per body without the singular points (constructed case): a slab of three
+    !> 1 x 0.5 m quads (SLAB group) on three rockfill quads of 1 x 1 m, bonded, node 1 (the
+    !> slab's lower corner, shared with the rockfill) fixed. Radius 2 h = 1 m: slab element 1
+    !> (centroid 0.56 m from node 1) and rockfill element 4 (0.71 m) are left out, the others
+    !> (1.5 m and more) are not. Given sigma1 = 900, 500, 700 and sigma3 = -900, -100, -300 in
+    !> the slab, sigma1 = 80, 20, 10 and sigma3 = -800, -50, -60 in the rockfill: slab
+    !> extremes 700 (element 3) and -300 (element 3), rockfill 20 (element 5) and -60
+    !> (element 6), one element left out of each; singular nodes: node 1 alone.
+    subroutine test_extremes(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(model_t) :: model
+        type(slab_result_t) :: slab
+        type(body_extremes_t), allocatable :: ex(:)
+        integer, allocatable :: nodes(:)
+        real(dp), allocatable :: radius(:)
+        real(dp) :: xy(2, 12), principal(3, 6)
+        integer :: conn(4, 6), i
+        ! Rows of 4 nodes at y = -1, 0, 0.5: rockfill below, slab above.
+        do i = 0, 3
+            xy(:, i + 1) = [1.0_dp*i, 0.0_dp]
+            xy(:, i + 5) = [1.0_dp*i, 0.5_dp]
+            xy(:, i + 9) = [1.0_dp*i, -1.0_dp]
+        end do
+        do i = 1, 3
+            conn(:, i) = [i, i + 1, i + 5, i + 4]
+            conn(:, i + 3) = [i + 8, i + 9, i + 1, i]
+        end do
+        call new_model(model, xy, conn, [(1, i=1, 6)], [elastic_material(3.0e7_dp, 0.2_dp, &
+                                                                          0.0_dp)])
+        model%mesh%group(1:3) = 1
+        model%mesh%group_name = [character(len=10) :: 'SLAB']
+        model%slab_groups = [1]
+        allocate (model%interfaces(0))
+        model%fixed(:, 1) = .true.
+        model%fixed(:, 9:12) = .true.
+        principal = 0.0_dp
+        principal(1, :) = [900.0_dp, 500.0_dp, 700.0_dp, 80.0_dp, 20.0_dp, 10.0_dp]
+        principal(2, :) = [-900.0_dp, -100.0_dp, -300.0_dp, -800.0_dp, -50.0_dp, -60.0_dp]
+        call slab_stresses(model, spread(spread([0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], 2, 4), 3, &
+                                         6), [(.true., i=1, 6)], slab)
+        call body_extremes(model, principal, [(.true., i=1, 6)], [(.true., i=1, 6)], slab, &
+                           ex, nodes, radius)
+        call check(error, size(nodes), 1, 'one singular node')
+        if (allocated(error)) return
+        call check(error, nodes(1), 1, 'the slab''s fixed corner')
+        if (allocated(error)) return
+        call check(error, radius(1), 1.0_dp, 'two slab thicknesses', rel=1e-12_dp)
+        if (allocated(error)) return
+        call check(error, all([ex%max_element, ex%min_element, ex%left_out] == &
+                              [3, 5, 3, 6, 1, 1]), 'elements of the extremes, and left out')
+        if (allocated(error)) return
+        call check(error, all([ex%max_sigma1, ex%min_sigma3] == &
+                              [700.0_dp, 20.0_dp, -300.0_dp, -60.0_dp]), 'extreme values')
+    end subroutine test_extremes
+
+    !> Sections of a slab cut along skewed lines (constructed case): 3 columns of 8 layers,
+    !> each element 2 m along the axis and h/8 across, every cross line skewed so that a
+    !> column's layers shift by 1.9 m along the axis from its first to its last (the x8
+    !> Tianshengqiao-I slab on the row lines: 1.2 m in 1.6 m elements). Under a uniform
+    !> sigma_tt = a, each column is one section, N = a h (the column's elements found by
+    !> their cross lines, not by how close their centroids lie), and with FT = f_t the
+    !> crack-risk ratio is the fibre stress a over f_t; 1e-12 relative.
+    subroutine test_skewed_columns(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(model_t) :: model
+        type(slab_result_t) :: res
+        integer, parameter :: nl = 8
+        real(dp), parameter :: a = -2500.0_dp, h = 0.6_dp, len = 2.0_dp, shift = 1.9_dp, &
+                               ft = 2000.0_dp
+        real(dp) :: xy(2, 4*(nl + 1)), stress(4, 4, 3*nl)
+        integer :: conn(4, 3*nl), i, j, e
+        do j = 0, nl
+            do i = 0, 3
+                xy(:, 4*j + i + 1) = [len*i + shift*j/nl, h*j/nl]
+            end do
+        end do
+        e = 0
+        do j = 0, nl - 1
+            do i = 0, 2
+                e = e + 1
+                conn(:, e) = [4*j + i + 1, 4*j + i + 2, 4*(j + 1) + i + 2, 4*(j + 1) + i + 1]
+            end do
+        end do
+        call new_model(model, xy, conn, [(1, i=1, 3*nl)], [elastic_material(3.0e7_dp, &
+                                                                              0.2_dp, 0.0_dp)])
+        model%materials(1)%tensile_strength = ft
+        model%mesh%group = 1
+        model%mesh%group_name = [character(len=10) :: 'SLAB']
+        model%slab_groups = [1]
+        allocate (model%interfaces(0))
+        stress = 0.0_dp
+        stress(1, :, :) = a
+        call slab_stresses(model, stress, [(.true., i=1, 3*nl)], res)
+        call check(error, size(res%axial), 3, 'one section per column')
+        if (allocated(error)) return
+        do j = 1, 3
+            call check(error, res%axial(j), a*h, 'N = a h', rel=1e-12_dp)
+            if (allocated(error)) return
+            call check(error, res%crack_ratio(j), a/ft, 'crack-risk ratio a / f_t', rel=1e-12_dp)
+            if (allocated(error)) return
+        end do
+    end subroutine test_skewed_columns
+end module test_analysis_slab
