@@ -25,6 +25,7 @@ module cfrd_hdf5
     use cfrd_interface_io, only: has_interfaces, has_slab, has_contact
     use cfrd_effects, only: effects_text
     use cfrd_run_identity, only: run_identity_t
+    use cfrd_h5_state, only: write_stage_state
     implicit none
     private
 
@@ -33,8 +34,9 @@ module cfrd_hdf5
     public :: write_results_h5, layout_version
 
     !> Version of the layout of docs/results.md (2: streamed, `complete`, history, XDMF
-    !> helpers, zones; 3: result sets: `run_id`, `deck_sha256`, `deck_path`, `set_files`).
-    integer, parameter :: layout_version = 3
+    !> helpers, zones; 3: result sets: `run_id`, `deck_sha256`, `deck_path`, `set_files`;
+    !> 4: each stage's restart state, group `state`).
+    integer, parameter :: layout_version = 4
 
     !> How the values are stored (cfrd --compress, --float32; docs/results.md).
     type :: results_format_t
@@ -276,6 +278,8 @@ contains
                                'volumetric and generalised shear wetting strain reached '// &
                                '(compression positive; zero where nothing was wetted)', st)
         call write_interface_stage(stage_id, file, stage, st)
+        ! what a restart from this stage needs (docs/results.md, "Restart")
+        if (allocated(stage%carry%f_ext)) call write_stage_state(stage_id, stage, st)
         call open_group(stage_id, 'solver', solver_id, st)
         call attr_int(solver_id, 'neq', stage%stats%neq, st)
         call attr_int(solver_id, 'nnz', stage%stats%nnz, st)

@@ -1,0 +1,238 @@
+!> The restart state of a stage in the results file (docs/results.md, "Restart", layout 4):
+!> the group stages/stage_NNNN/state holds what the next stage needs beyond the stage's own
+!> datasets (the carry: displacements before the last RESET, applied load, wetted elements,
+!> contact state, multiplier scale), and in double precision the stage's own state fields
+!> when the file stores them in single (--float32). read_stored_stage gives a stage back as
+!> the stage driver needs it for a restart: those fields, the carry, and the stage's figures
+!> (increments, factorisations, times, solver counts) as they were written.
+module cfrd_h5_state
+    use hdf5, only: hid_t, h5gopen_f, h5gclose_f
+    use cfrd_kinds, only: dp
+    use cfrd_error, only: error_t, fatal_error, io_error
+    use cfrd_model, only: dry_level, no_date
+    use cfrd_results, only: stage_result_t, carry_t
+    use cfrd_h5_io, only: h5_state_t, fail, open_group, close_group, dataset_real1, &
+                          dataset_real2, dataset_real3, dataset_int1, attr_real, attr_int
+    use cfrd_h5_read, only: int_attribute, real_attribute, has_object, read_real1, &
+                            read_real2, read_real3, read_int1
+    implicit none
+    private
+
+    public :: write_stage_state, read_stored_stage
+
+contains
+
+    !> The group `state` of the stage group `stage_id`.
+    subroutine write_stage_state(stage_id, stage, st)
+        integer(hid_t), intent(in) :: stage_id
+        type(stage_result_t), intent(in) :: stage
+        type(h5_state_t), intent(inout) :: st
+        integer(hid_t) :: id
+        logical :: single
+        single = st%single
+        st%single = .false.
+        call open_group(stage_id, 'state', id, st)
+        associate (c => stage%carry)
+            call attr_int(id, 'prescribed_done', merge(1, 0, c%prescribed_done), st)
+            call attr_real(id, 'contact_scale', [c%contact_scale], st)
+            call dataset_real2(id, 'u_before_reset', c%u_before_reset, 'm', &
+                               'ux, uy: the sum of the displacements at the RESETs', st)
+            call dataset_real2(id, 'f_ext', c%f_ext, 'kN/m', 'fx, fy applied so far', st)
+            if (allocated(c%wetted)) call dataset_int1(id, 'wetted', merge(1, 0, c%wetted), st)
+            if (allocated(c%p)) call write_contact_state(id, c, st)
+        end associate
+        if (single) then
+            ! the fields the next stage starts from, to the bit (the stage's are single)
+            call dataset_real2(id, 'displacement', stage%displacement, 'm', 'ux, uy', st)
+            call dataset_real3(id, 'stress_gauss', stage%stress_gauss, 'kPa', &
+                               'xx, yy, zz, xy', st)
+            call dataset_real3(id, 'strain_gauss', stage%strain_gauss, '-, m', &
+                               'xx, yy, zz, xy (joints: du_n, du_s)', st)
+            call dataset_real3(id, 'history_gauss', stage%history_gauss, '-', 'SS, SL', st)
+            if (allocated(stage%creep_gauss)) call dataset_real3(id, 'creep_gauss', &
+                stage%creep_gauss, '-', 'volumetric, shear', st)
+            if (allocated(stage%wetting_gauss)) call dataset_real3(id, 'wetting_gauss', &
+                stage%wetting_gauss, '-', 'volumetric, shear', st)
+        end if
+        call close_group(id, st)
+        st%single = single
+    end subroutine write_stage_state
+
+    !> The contact state (cfrd_contact's contact_t) under `state/contact`.
+    subroutine write_contact_state(state_id, c, st)
+        integer(hid_t), intent(in) :: state_id
+        type(carry_t), intent(in) :: c
+        type(h5_state_t), intent(inout) :: st
+        integer(hid_t) :: id
+        call open_group(state_id, 'contact', id, st)
+        call attr_int(id, 'searches', c%searches, st)
+        call dataset_int1(id, 'placed', merge(1, 0, c%placed), st)
+        call dataset_int1(id, 'supported', merge(1, 0, c%supported), st)
+        if (allocated(c%seg_searched)) then
+            call dataset_int1(id, 'seg_searched', merge(1, 0, c%seg_searched), st)
+            call dataset_int1(id, 'mseg_searched', merge(1, 0, c%mseg_searched), st)
+        end if
+        call dataset_int1(id, 'status', c%status, st)
+        call dataset_int1(id, 'slip_sign', c%slip_sign, st)
+        call dataset_int1(id, 'birth', c%birth, st)
+        call dataset_int1(id, 'cpl_ptr', c%cpl_ptr, st)
+        call dataset_int1(id, 'cpl_node', c%cpl_node, st)
+        call dataset_real1(id, 'cpl_a', c%cpl_a, 'm', 'coupling coefficients', st)
+        call dataset_real1(id, 'p', c%p, 'kPa', 'normal pressure', st)
+        call dataset_real1(id, 'q', c%q, 'kPa', 'shear traction', st)
+        call dataset_real1(id, 'g0', c%g0, 'm', 'gap at placement', st)
+        call dataset_real1(id, 'gap', c%gap, 'm', 'gap', st)
+        call dataset_real1(id, 'slip', c%slip, 'm', 'slip', st)
+        call dataset_real1(id, 'w', c%w, 'm', 'sum of D', st)
+        call dataset_real1(id, 'wref', c%wref, 'm', 'tributary length', st)
+        call dataset_real1(id, 'g', c%g, 'm2', 'weighted gap', st)
+        if (allocated(c%g_curve)) call dataset_real1(id, 'g_curve', c%g_curve, 'm2', &
+                                                     'RPIM offset', st)
+        call dataset_real2(id, 'u', c%u, 'm', 'ux, uy since placement', st)
+        call dataset_real2(id, 'normal', c%normal, '-', 'nx, ny', st)
+        call dataset_real2(id, 'tangent', c%tangent, '-', 'tx, ty', st)
+        call close_group(id, st)
+    end subroutine write_contact_state
+
+    !> Stage `number` of the open results file `file_id` (path `path`, for messages).
+    subroutine read_stored_stage(file_id, path, number, stage, error)
+        integer(hid_t), intent(in) :: file_id
+        character(len=*), intent(in) :: path
+        integer, intent(in) :: number
+        type(stage_result_t), intent(out) :: stage
+        type(error_t), allocatable, intent(out) :: error
+        type(h5_state_t) :: st
+        integer(hid_t) :: stage_id, state_id, id
+        integer :: hdferr
+        integer, allocatable :: flags(:)
+        character(len=24) :: name
+        write (name, '(a,i4.4)') 'stages/stage_', number
+        call h5gopen_f(file_id, trim(name), stage_id, hdferr)
+        if (hdferr < 0) then
+            call fatal_error(error, path//': no group '//trim(name), io_error)
+            return
+        end if
+        stage%increments = int_attribute(stage_id, 'increments')
+        stage%factorisations = int_attribute(stage_id, 'factorisations')
+        stage%iterations = int_attribute(stage_id, 'iterations')
+        stage%cutbacks = int_attribute(stage_id, 'cutbacks')
+        stage%max_residual = real_attribute(stage_id, 'max_residual', 0.0_dp)
+        stage%wall_time = real_attribute(stage_id, 'wall_time', 0.0_dp)
+        stage%water_level = real_attribute(stage_id, 'water_level', dry_level)
+        stage%day = real_attribute(stage_id, 'day', no_date)
+        call read_stats(stage_id, stage, st)
+        call read_int1(stage_id, 'active', flags, st)
+        stage%active = flags == 1
+        call h5gopen_f(stage_id, 'state', state_id, hdferr)
+        if (hdferr < 0) then
+            call fail(st, trim(name)//'/state')
+        else
+            ! the double copies of a --float32 file, else the stage's own datasets
+            id = merge(state_id, stage_id, has_object(state_id, 'stress_gauss'))
+            call read_real2(id, 'displacement', stage%displacement, st)
+            call read_real3(id, 'stress_gauss', stage%stress_gauss, st)
+            call read_real3(id, 'strain_gauss', stage%strain_gauss, st)
+            call read_real3(id, 'history_gauss', stage%history_gauss, st)
+            if (has_object(stage_id, 'creep_gauss')) &
+                call read_real3(id, 'creep_gauss', stage%creep_gauss, st)
+            if (has_object(stage_id, 'wetting_gauss')) &
+                call read_real3(id, 'wetting_gauss', stage%wetting_gauss, st)
+            call read_carry(state_id, stage%carry, st)
+            call h5gclose_f(state_id, hdferr)
+        end if
+        call h5gclose_f(stage_id, hdferr)
+        if (.not. st%ok) call fatal_error(error, path//': cannot read '//trim(name)// &
+                                          ' for the restart: HDF5 failed at '//st%failed, &
+                                          io_error)
+    end subroutine read_stored_stage
+
+    !> The solver's figures of the stage (its group `solver`).
+    subroutine read_stats(stage_id, stage, st)
+        integer(hid_t), intent(in) :: stage_id
+        type(stage_result_t), intent(inout) :: stage
+        type(h5_state_t), intent(inout) :: st
+        integer(hid_t) :: id
+        integer :: hdferr
+        call h5gopen_f(stage_id, 'solver', id, hdferr)
+        if (hdferr < 0) then
+            call fail(st, 'solver')
+            return
+        end if
+        associate (s => stage%stats)
+            s%neq = int_attribute(id, 'neq')
+            s%nnz = int_attribute(id, 'nnz')
+            s%t_pattern = real_attribute(id, 't_pattern', 0.0_dp)
+            s%t_assembly = real_attribute(id, 't_assembly', 0.0_dp)
+            s%t_symbolic = real_attribute(id, 't_symbolic', 0.0_dp)
+            s%t_numeric = real_attribute(id, 't_numeric', 0.0_dp)
+            s%t_update = real_attribute(id, 't_update', 0.0_dp)
+            s%t_solve = real_attribute(id, 't_solve', 0.0_dp)
+            s%t_contact = real_attribute(id, 't_contact', 0.0_dp)
+            s%rcond = real_attribute(id, 'rcond', 0.0_dp)
+            s%lu_nnz = int_attribute(id, 'lu_nnz')
+            s%patterns = int_attribute(id, 'patterns')
+            s%analyses = int_attribute(id, 'symbolic_factorisations')
+            s%updates = int_attribute(id, 'updates')
+            s%updates_declined = int_attribute(id, 'updates_declined')
+            s%contact_iterations = int_attribute(id, 'contact_iterations')
+            s%searches = int_attribute(id, 'searches')
+            s%regularised = int_attribute(id, 'regularised')
+            s%held = int_attribute(id, 'held')
+            s%held_excess = real_attribute(id, 'held_excess', 0.0_dp)
+        end associate
+        call h5gclose_f(id, hdferr)
+    end subroutine read_stats
+
+    subroutine read_carry(state_id, c, st)
+        integer(hid_t), intent(in) :: state_id
+        type(carry_t), intent(inout) :: c
+        type(h5_state_t), intent(inout) :: st
+        integer(hid_t) :: id
+        integer :: hdferr
+        integer, allocatable :: flags(:)
+        c%prescribed_done = int_attribute(state_id, 'prescribed_done') == 1
+        c%contact_scale = real_attribute(state_id, 'contact_scale', 1.0_dp)
+        call read_real2(state_id, 'u_before_reset', c%u_before_reset, st)
+        call read_real2(state_id, 'f_ext', c%f_ext, st)
+        if (has_object(state_id, 'wetted')) then
+            call read_int1(state_id, 'wetted', flags, st)
+            c%wetted = flags == 1
+        end if
+        if (.not. has_object(state_id, 'contact')) return
+        call h5gopen_f(state_id, 'contact', id, hdferr)
+        if (hdferr < 0) then
+            call fail(st, 'state/contact')
+            return
+        end if
+        c%searches = int_attribute(id, 'searches')
+        call read_int1(id, 'placed', flags, st)
+        c%placed = flags == 1
+        call read_int1(id, 'supported', flags, st)
+        c%supported = flags == 1
+        if (has_object(id, 'seg_searched')) then
+            call read_int1(id, 'seg_searched', flags, st)
+            c%seg_searched = flags == 1
+            call read_int1(id, 'mseg_searched', flags, st)
+            c%mseg_searched = flags == 1
+        end if
+        call read_int1(id, 'status', c%status, st)
+        call read_int1(id, 'slip_sign', c%slip_sign, st)
+        call read_int1(id, 'birth', c%birth, st)
+        call read_int1(id, 'cpl_ptr', c%cpl_ptr, st)
+        call read_int1(id, 'cpl_node', c%cpl_node, st)
+        call read_real1(id, 'cpl_a', c%cpl_a, st)
+        call read_real1(id, 'p', c%p, st)
+        call read_real1(id, 'q', c%q, st)
+        call read_real1(id, 'g0', c%g0, st)
+        call read_real1(id, 'gap', c%gap, st)
+        call read_real1(id, 'slip', c%slip, st)
+        call read_real1(id, 'w', c%w, st)
+        call read_real1(id, 'wref', c%wref, st)
+        call read_real1(id, 'g', c%g, st)
+        if (has_object(id, 'g_curve')) call read_real1(id, 'g_curve', c%g_curve, st)
+        call read_real2(id, 'u', c%u, st)
+        call read_real2(id, 'normal', c%normal, st)
+        call read_real2(id, 'tangent', c%tangent, st)
+        call h5gclose_f(id, hdferr)
+    end subroutine read_carry
+end module cfrd_h5_state
