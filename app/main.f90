@@ -474,6 +474,7 @@ contains
         write (output_unit, '(a)') &
             'Usage: cfrd [options] DECK [DECK ...]', &
             '       cfrd --check DIR|RESULTS.h5 [...]', &
+            '       cfrd [options] --restart RESULTS.h5 [--from-stage K] [DECK]', &
             '', &
             'Runs each card deck (docs/cards.md) and writes DECK.out (listing), DECK.h5', &
             '(results, docs/results.md) and DECK.xmf (for ParaView) beside it, or in', &
@@ -490,6 +491,13 @@ contains
             '                results file (.h5), say whether each result set in it is', &
             '                whole (same run id, its deck unchanged): exit 0 when all', &
             '                are, 1 when one is not', &
+            '  --restart RESULTS.h5', &
+            '                continue from a stage of a results file (DECK.h5 or', &
+            '                DECK.incomplete.h5): without DECK its stored deck, into its', &
+            '                result set; with DECK that deck''s later stages, once it is', &
+            '                found to be the stored deck up to that stage (exit 2 naming', &
+            '                the first difference otherwise)', &
+            '  --from-stage K  the stage to continue from (default: the last completed)', &
             '  --out DIR     write results into DIR (created if missing); two decks of', &
             '                the same name are refused (exit 2)', &
             '  --quiet       print nothing but errors', &

@@ -21,7 +21,7 @@ stages added here [choice]), each run once in full:
    stopped by SIGTERM, finished from its DECK.incomplete.h5 (the incomplete file removed).
 3. Refusals (exit 2 and the message): K beyond the last completed stage, a deck that
    differs before K (naming the first difference), a file that is not cfrd's, a text file,
-   a results file of layout 3.
+   a results file of layout 3; --from-stage without --restart or not a number, two decks.
 """
 
 import os
@@ -244,6 +244,12 @@ def refusals(cfrd, deck, full, work):
     with h5py.File(old, "a") as f:
         f.attrs["layout_version"] = np.int32(3)
     refused("layout-3", "results layout 3 keeps no restart state", "--restart", old)
+    refused("from-stage-alone", "option --from-stage goes with --restart", "--from-stage", "3",
+            deck)
+    refused("from-stage-not-a-number", "option --from-stage needs a stage number",
+            "--restart", full, "--from-stage", "x")
+    refused("two-decks", "option --restart takes at most one deck", "--restart", full, deck,
+            deck)
 
 
 def main():

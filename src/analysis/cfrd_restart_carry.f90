@@ -21,47 +21,57 @@ contains
         type(state_t), intent(in) :: state
         real(dp), intent(in) :: contact_scale
         type(carry_t) :: carry
+        type(contact_t) :: contact
         carry%u_before_reset = state%u_before_reset
         carry%f_ext = state%f_ext
         carry%prescribed_done = state%prescribed_done
         if (allocated(state%wetted)) carry%wetted = state%wetted
         carry%contact_scale = contact_scale
-        if (state%has_contact) call carry_contact(state%contact, carry)
+        if (.not. state%has_contact) return
+        contact = state%contact
+        call carry_contact(contact, carry, save=.true.)
     end function carry_of
 
-    subroutine carry_contact(c, carry)
-        type(contact_t), intent(in) :: c
+    !> The contact state between `c` and `carry`: into the carry (`save`) or back into `c`;
+    !> one list of the fields for both ways.
+    subroutine carry_contact(c, carry, save)
+        type(contact_t), intent(inout) :: c
         type(carry_t), intent(inout) :: carry
-        carry%searches = c%searches
-        carry%placed = c%placed
-        carry%supported = c%supported
-        if (allocated(c%seg_searched)) carry%seg_searched = c%seg_searched
-        if (allocated(c%mseg_searched)) carry%mseg_searched = c%mseg_searched
-        carry%status = c%status
-        carry%slip_sign = c%slip_sign
-        carry%birth = c%birth
-        carry%cpl_ptr = c%cpl_ptr
-        carry%cpl_node = c%cpl_node
-        carry%cpl_a = c%cpl_a
-        carry%p = c%p
-        carry%q = c%q
-        carry%g0 = c%g0
-        carry%gap = c%gap
-        carry%slip = c%slip
-        carry%w = c%w
-        carry%wref = c%wref
-        carry%g = c%g
-        if (allocated(c%g_curve)) carry%g_curve = c%g_curve
-        carry%u = c%u
-        carry%normal = c%normal
-        carry%tangent = c%tangent
+        logical, intent(in) :: save
+        if (save) then
+            carry%searches = c%searches
+        else
+            c%searches = carry%searches
+        end if
+        call move_l(c%placed, carry%placed, save)
+        call move_l(c%supported, carry%supported, save)
+        call move_l(c%seg_searched, carry%seg_searched, save)
+        call move_l(c%mseg_searched, carry%mseg_searched, save)
+        call move_i(c%status, carry%status, save)
+        call move_i(c%slip_sign, carry%slip_sign, save)
+        call move_i(c%birth, carry%birth, save)
+        call move_i(c%cpl_ptr, carry%cpl_ptr, save)
+        call move_i(c%cpl_node, carry%cpl_node, save)
+        call move_r(c%cpl_a, carry%cpl_a, save)
+        call move_r(c%p, carry%p, save)
+        call move_r(c%q, carry%q, save)
+        call move_r(c%g0, carry%g0, save)
+        call move_r(c%gap, carry%gap, save)
+        call move_r(c%slip, carry%slip, save)
+        call move_r(c%w, carry%w, save)
+        call move_r(c%wref, carry%wref, save)
+        call move_r(c%g, carry%g, save)
+        call move_r(c%g_curve, carry%g_curve, save)
+        call move_r2(c%u, carry%u, save)
+        call move_r2(c%normal, carry%normal, save)
+        call move_r2(c%tangent, carry%tangent, save)
     end subroutine carry_contact
 
     !> The state at the end of the stored stage `stage` (its fields and carry as read back):
     !> `state` comes from the stage driver's initial state (its arrays allocated, the contact
     !> surfaces built) and every evolving part of it is replaced.
     subroutine restore_state(stage, state)
-        type(stage_result_t), intent(in) :: stage
+        type(stage_result_t), intent(inout) :: stage
         type(state_t), intent(inout) :: state
         state%u = stage%displacement
         state%stress = stage%stress_gauss
@@ -78,35 +88,38 @@ contains
             state%f_ext = carry%f_ext
             state%prescribed_done = carry%prescribed_done
             if (allocated(state%wetted)) state%wetted = carry%wetted
-            if (state%has_contact) call restore_contact(carry, state%contact)
         end associate
+        if (state%has_contact) call carry_contact(state%contact, stage%carry, save=.false.)
     end subroutine restore_state
 
-    subroutine restore_contact(carry, c)
-        type(carry_t), intent(in) :: carry
-        type(contact_t), intent(inout) :: c
-        c%searches = carry%searches
-        c%placed = carry%placed
-        c%supported = carry%supported
-        if (allocated(carry%seg_searched)) c%seg_searched = carry%seg_searched
-        if (allocated(carry%mseg_searched)) c%mseg_searched = carry%mseg_searched
-        c%status = carry%status
-        c%slip_sign = carry%slip_sign
-        c%birth = carry%birth
-        c%cpl_ptr = carry%cpl_ptr
-        c%cpl_node = carry%cpl_node
-        c%cpl_a = carry%cpl_a
-        c%p = carry%p
-        c%q = carry%q
-        c%g0 = carry%g0
-        c%gap = carry%gap
-        c%slip = carry%slip
-        c%w = carry%w
-        c%wref = carry%wref
-        c%g = carry%g
-        if (allocated(carry%g_curve)) c%g_curve = carry%g_curve
-        c%u = carry%u
-        c%normal = carry%normal
-        c%tangent = carry%tangent
-    end subroutine restore_contact
+    !> a = b (`save`: b = a), when the source is allocated.
+    subroutine move_l(a, b, save)
+        logical, allocatable, intent(inout) :: a(:), b(:)
+        logical, intent(in) :: save
+        if (save .and. allocated(a)) b = a
+        if (.not. save .and. allocated(b)) a = b
+    end subroutine move_l
+
+    !> a = b (`save`: b = a), when the source is allocated.
+    subroutine move_i(a, b, save)
+        integer, allocatable, intent(inout) :: a(:), b(:)
+        logical, intent(in) :: save
+        if (save .and. allocated(a)) b = a
+        if (.not. save .and. allocated(b)) a = b
+    end subroutine move_i
+
+    !> a = b (`save`: b = a), when the source is allocated.
+    subroutine move_r(a, b, save)
+        real(dp), allocatable, intent(inout) :: a(:), b(:)
+        logical, intent(in) :: save
+        if (save .and. allocated(a)) b = a
+        if (.not. save .and. allocated(b)) a = b
+    end subroutine move_r
+
+    subroutine move_r2(a, b, save)
+        real(dp), allocatable, intent(inout) :: a(:, :), b(:, :)
+        logical, intent(in) :: save
+        if (save .and. allocated(a)) b = a
+        if (.not. save .and. allocated(b)) a = b
+    end subroutine move_r2
 end module cfrd_restart_carry

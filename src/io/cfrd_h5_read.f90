@@ -15,7 +15,7 @@ module cfrd_h5_read
     private
 
     public :: text_attribute, int_attribute, real_attribute, has_object
-    public :: read_real1, read_real2, read_real3, read_int1, read_text
+    public :: read_reals, read_ints, read_text
 
 contains
 
@@ -135,52 +135,34 @@ contains
         if (dset_id >= 0) call h5dclose_f(dset_id, err)
     end subroutine close_dataset
 
-    subroutine read_real1(loc, name, values, st)
+    !> A dataset of `values`' rank (1 to 3) read as doubles, whatever the file stores.
+    subroutine read_reals(loc, name, values, st)
         integer(hid_t), intent(in) :: loc
         character(len=*), intent(in) :: name
-        real(dp), allocatable, intent(out) :: values(:)
-        type(h5_state_t), intent(inout) :: st
-        integer(hid_t) :: dset_id
-        integer(hsize_t) :: dims(1)
-        integer :: hdferr
-        call open_dataset(loc, name, 1, dset_id, dims, st)
-        allocate (values(dims(1)))
-        hdferr = 0
-        if (st%ok) call h5dread_f(dset_id, H5T_NATIVE_DOUBLE, values, dims, hdferr)
-        call close_dataset(dset_id, name, hdferr, st)
-    end subroutine read_real1
-
-    subroutine read_real2(loc, name, values, st)
-        integer(hid_t), intent(in) :: loc
-        character(len=*), intent(in) :: name
-        real(dp), allocatable, intent(out) :: values(:, :)
-        type(h5_state_t), intent(inout) :: st
-        integer(hid_t) :: dset_id
-        integer(hsize_t) :: dims(2)
-        integer :: hdferr
-        call open_dataset(loc, name, 2, dset_id, dims, st)
-        allocate (values(dims(1), dims(2)))
-        hdferr = 0
-        if (st%ok) call h5dread_f(dset_id, H5T_NATIVE_DOUBLE, values, dims, hdferr)
-        call close_dataset(dset_id, name, hdferr, st)
-    end subroutine read_real2
-
-    subroutine read_real3(loc, name, values, st)
-        integer(hid_t), intent(in) :: loc
-        character(len=*), intent(in) :: name
-        real(dp), allocatable, intent(out) :: values(:, :, :)
+        real(dp), allocatable, intent(out) :: values(..)
         type(h5_state_t), intent(inout) :: st
         integer(hid_t) :: dset_id
         integer(hsize_t) :: dims(3)
         integer :: hdferr
-        call open_dataset(loc, name, 3, dset_id, dims, st)
-        allocate (values(dims(1), dims(2), dims(3)))
+        dims = 1
+        call open_dataset(loc, name, rank(values), dset_id, dims(1:rank(values)), st)
         hdferr = 0
-        if (st%ok) call h5dread_f(dset_id, H5T_NATIVE_DOUBLE, values, dims, hdferr)
+        select rank (values)
+        rank (1)
+            allocate (values(dims(1)))
+            if (st%ok) call h5dread_f(dset_id, H5T_NATIVE_DOUBLE, values, dims(1:1), hdferr)
+        rank (2)
+            allocate (values(dims(1), dims(2)))
+            if (st%ok) call h5dread_f(dset_id, H5T_NATIVE_DOUBLE, values, dims(1:2), hdferr)
+        rank (3)
+            allocate (values(dims(1), dims(2), dims(3)))
+            if (st%ok) call h5dread_f(dset_id, H5T_NATIVE_DOUBLE, values, dims, hdferr)
+        end select
         call close_dataset(dset_id, name, hdferr, st)
-    end subroutine read_real3
+    end subroutine read_reals
 
-    subroutine read_int1(loc, name, values, st)
+    !> A dataset of integers of rank 1.
+    subroutine read_ints(loc, name, values, st)
         integer(hid_t), intent(in) :: loc
         character(len=*), intent(in) :: name
         integer, allocatable, intent(out) :: values(:)
@@ -193,7 +175,7 @@ contains
         hdferr = 0
         if (st%ok) call h5dread_f(dset_id, H5T_NATIVE_INTEGER, values, dims, hdferr)
         call close_dataset(dset_id, name, hdferr, st)
-    end subroutine read_int1
+    end subroutine read_ints
 
     !> A scalar string dataset (the deck, /input/deck), as written (its length).
     subroutine read_text(loc, name, text, st)

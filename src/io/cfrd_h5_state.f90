@@ -13,8 +13,7 @@ module cfrd_h5_state
     use cfrd_results, only: stage_result_t, carry_t
     use cfrd_h5_io, only: h5_state_t, fail, open_group, close_group, dataset_real1, &
                           dataset_real2, dataset_real3, dataset_int1, attr_real, attr_int
-    use cfrd_h5_read, only: int_attribute, real_attribute, has_object, read_real1, &
-                            read_real2, read_real3, read_int1
+    use cfrd_h5_read, only: int_attribute, real_attribute, has_object, read_reals, read_ints
     implicit none
     private
 
@@ -121,7 +120,7 @@ contains
         stage%water_level = real_attribute(stage_id, 'water_level', dry_level)
         stage%day = real_attribute(stage_id, 'day', no_date)
         call read_stats(stage_id, stage, st)
-        call read_int1(stage_id, 'active', flags, st)
+        call read_ints(stage_id, 'active', flags, st)
         stage%active = flags == 1
         call h5gopen_f(stage_id, 'state', state_id, hdferr)
         if (hdferr < 0) then
@@ -129,14 +128,14 @@ contains
         else
             ! the double copies of a --float32 file, else the stage's own datasets
             id = merge(state_id, stage_id, has_object(state_id, 'stress_gauss'))
-            call read_real2(id, 'displacement', stage%displacement, st)
-            call read_real3(id, 'stress_gauss', stage%stress_gauss, st)
-            call read_real3(id, 'strain_gauss', stage%strain_gauss, st)
-            call read_real3(id, 'history_gauss', stage%history_gauss, st)
+            call read_reals(id, 'displacement', stage%displacement, st)
+            call read_reals(id, 'stress_gauss', stage%stress_gauss, st)
+            call read_reals(id, 'strain_gauss', stage%strain_gauss, st)
+            call read_reals(id, 'history_gauss', stage%history_gauss, st)
             if (has_object(stage_id, 'creep_gauss')) &
-                call read_real3(id, 'creep_gauss', stage%creep_gauss, st)
+                call read_reals(id, 'creep_gauss', stage%creep_gauss, st)
             if (has_object(stage_id, 'wetting_gauss')) &
-                call read_real3(id, 'wetting_gauss', stage%wetting_gauss, st)
+                call read_reals(id, 'wetting_gauss', stage%wetting_gauss, st)
             call read_carry(state_id, stage%carry, st)
             call h5gclose_f(state_id, hdferr)
         end if
@@ -192,10 +191,10 @@ contains
         integer, allocatable :: flags(:)
         c%prescribed_done = int_attribute(state_id, 'prescribed_done') == 1
         c%contact_scale = real_attribute(state_id, 'contact_scale', 1.0_dp)
-        call read_real2(state_id, 'u_before_reset', c%u_before_reset, st)
-        call read_real2(state_id, 'f_ext', c%f_ext, st)
+        call read_reals(state_id, 'u_before_reset', c%u_before_reset, st)
+        call read_reals(state_id, 'f_ext', c%f_ext, st)
         if (has_object(state_id, 'wetted')) then
-            call read_int1(state_id, 'wetted', flags, st)
+            call read_ints(state_id, 'wetted', flags, st)
             c%wetted = flags == 1
         end if
         if (.not. has_object(state_id, 'contact')) return
@@ -205,34 +204,34 @@ contains
             return
         end if
         c%searches = int_attribute(id, 'searches')
-        call read_int1(id, 'placed', flags, st)
+        call read_ints(id, 'placed', flags, st)
         c%placed = flags == 1
-        call read_int1(id, 'supported', flags, st)
+        call read_ints(id, 'supported', flags, st)
         c%supported = flags == 1
         if (has_object(id, 'seg_searched')) then
-            call read_int1(id, 'seg_searched', flags, st)
+            call read_ints(id, 'seg_searched', flags, st)
             c%seg_searched = flags == 1
-            call read_int1(id, 'mseg_searched', flags, st)
+            call read_ints(id, 'mseg_searched', flags, st)
             c%mseg_searched = flags == 1
         end if
-        call read_int1(id, 'status', c%status, st)
-        call read_int1(id, 'slip_sign', c%slip_sign, st)
-        call read_int1(id, 'birth', c%birth, st)
-        call read_int1(id, 'cpl_ptr', c%cpl_ptr, st)
-        call read_int1(id, 'cpl_node', c%cpl_node, st)
-        call read_real1(id, 'cpl_a', c%cpl_a, st)
-        call read_real1(id, 'p', c%p, st)
-        call read_real1(id, 'q', c%q, st)
-        call read_real1(id, 'g0', c%g0, st)
-        call read_real1(id, 'gap', c%gap, st)
-        call read_real1(id, 'slip', c%slip, st)
-        call read_real1(id, 'w', c%w, st)
-        call read_real1(id, 'wref', c%wref, st)
-        call read_real1(id, 'g', c%g, st)
-        if (has_object(id, 'g_curve')) call read_real1(id, 'g_curve', c%g_curve, st)
-        call read_real2(id, 'u', c%u, st)
-        call read_real2(id, 'normal', c%normal, st)
-        call read_real2(id, 'tangent', c%tangent, st)
+        call read_ints(id, 'status', c%status, st)
+        call read_ints(id, 'slip_sign', c%slip_sign, st)
+        call read_ints(id, 'birth', c%birth, st)
+        call read_ints(id, 'cpl_ptr', c%cpl_ptr, st)
+        call read_ints(id, 'cpl_node', c%cpl_node, st)
+        call read_reals(id, 'cpl_a', c%cpl_a, st)
+        call read_reals(id, 'p', c%p, st)
+        call read_reals(id, 'q', c%q, st)
+        call read_reals(id, 'g0', c%g0, st)
+        call read_reals(id, 'gap', c%gap, st)
+        call read_reals(id, 'slip', c%slip, st)
+        call read_reals(id, 'w', c%w, st)
+        call read_reals(id, 'wref', c%wref, st)
+        call read_reals(id, 'g', c%g, st)
+        if (has_object(id, 'g_curve')) call read_reals(id, 'g_curve', c%g_curve, st)
+        call read_reals(id, 'u', c%u, st)
+        call read_reals(id, 'normal', c%normal, st)
+        call read_reals(id, 'tangent', c%tangent, st)
         call h5gclose_f(id, hdferr)
     end subroutine read_carry
 end module cfrd_h5_state

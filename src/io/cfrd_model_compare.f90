@@ -215,23 +215,12 @@ contains
         if (a /= b) call found(f, what//': '//to_text(b)//' here, '//to_text(a)//' there')
     end subroutine same_int
 
+    !> Integers compare as reals (exact below 2**53).
     subroutine same_ints(f, what, a, b)
         type(finder_t), intent(inout) :: f
         character(len=*), intent(in) :: what
         integer, intent(in) :: a(:), b(:)
-        integer :: k
-        if (size(a) /= size(b)) then
-            call found(f, what//': '//to_text(size(b))//' values here, '// &
-                       to_text(size(a))//' there')
-            return
-        end if
-        do k = 1, size(a)
-            if (a(k) /= b(k)) then
-                call found(f, what//', value '//to_text(k)//': '//to_text(b(k))// &
-                           ' here, '//to_text(a(k))//' there')
-                return
-            end if
-        end do
+        call same_reals(f, what, real(a, dp), real(b, dp))
     end subroutine same_ints
 
     !> Reals compare bit for bit (both decks are read by the same reader).
@@ -239,7 +228,6 @@ contains
         type(finder_t), intent(inout) :: f
         character(len=*), intent(in) :: what
         real(dp), intent(in) :: a(:), b(:)
-        character(len=24) :: x, y
         integer :: k
         if (size(a) /= size(b)) then
             call found(f, what//': '//to_text(size(b))//' values here, '// &
@@ -248,14 +236,29 @@ contains
         end if
         do k = 1, size(a)
             if (a(k) /= b(k)) then
-                write (x, '(g0.10)') b(k)
-                write (y, '(g0.10)') a(k)
-                call found(f, what//', value '//to_text(k)//': '//trim(x)//' here, '// &
-                           trim(y)//' there')
+                if (size(a) == 1) then
+                    call found(f, what//': '//number(b(k))//' here, '//number(a(k))//' there')
+                else
+                    call found(f, what//', value '//to_text(k)//': '//number(b(k))// &
+                               ' here, '//number(a(k))//' there')
+                end if
                 return
             end if
         end do
     end subroutine same_reals
+
+    !> A value as text: an integer without decimals, else 10 significant digits.
+    function number(x) result(text)
+        real(dp), intent(in) :: x
+        character(len=:), allocatable :: text
+        character(len=32) :: buffer
+        if (x == aint(x) .and. abs(x) < 1.0e15_dp) then
+            write (buffer, '(i0)') nint(x, kind=8)
+        else
+            write (buffer, '(g0.10)') x
+        end if
+        text = trim(buffer)
+    end function number
 
     subroutine same_flags(f, what, a, b)
         type(finder_t), intent(inout) :: f
