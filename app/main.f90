@@ -290,10 +290,18 @@ contains
         integer, intent(in) :: number, total
         type(stage_result_t), intent(in) :: stage
         type(error_t), allocatable :: error
-        if (.not. allocated(current%write_error)) then
+        if (allocated(current%write_error)) then
+            continue
+        else if (number <= current%source%from_stage .and. &
+                 current%source%deflate == options%format%deflate .and. &
+                 (current%source%single .eqv. options%format%single)) then
+            ! cfrd --restart: a stored stage, stored as this run stores it: copied
+            call add_stage(current%output, current%model, number, stage, error, &
+                           current%source%file_id)
+        else
             call add_stage(current%output, current%model, number, stage, error)
-            if (allocated(error)) call move_alloc(error, current%write_error)
         end if
+        if (allocated(error)) call move_alloc(error, current%write_error)
         if (options%quiet) return
         write (output_unit, '(a,i0,a,i0,2a,i0,a,i0,a,i0,a,i0,a,es9.2,a,f8.3,a)') '  stage ', &
             number, '/', total, ': ', stage%name//', ', stage%increments, ' increments, ', &

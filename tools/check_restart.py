@@ -16,7 +16,8 @@ stages added here [choice]), each run once in full:
    restart analyses its first matrix anew), and every CSV file equal line for line after
    its run-id comment.
 2. On the contact deck: the same with the deck given (`--restart FULL.h5 --from-stage K
-   DECK`); a scenario, a deck that differs only after K (the last reservoir level), against
+   DECK`); with `--compress 0` (the stored stages recorded again from their state and
+   written, not copied); a scenario, a deck that differs only after K (the last reservoir level), against
    a full run of that deck; `--float32` restarted from a `--float32` file; and the run
    stopped by SIGTERM, finished from its DECK.incomplete.h5 (the incomplete file removed).
 3. Refusals (exit 2 and the message): K beyond the last completed stage, a deck that
@@ -160,6 +161,15 @@ def contact_cases(cfrd, deck, full, work):
                               full_folder, "contact", "contact") if status == 0 else \
         (False, f"exit {status}: {err[-300:]}")
     check("contact/with-deck-K39", ok, detail)
+    # Stored another way (no filter): the stored stages are recorded and written again, not
+    # copied; the values are the same.
+    folder = os.path.join(work, "compress0")
+    status, err = run([cfrd, "--quiet", "--compress", "0", "--restart", full, "--from-stage",
+                       "30", "--out", folder])
+    ok, detail = same_results(os.path.join(folder, "contact.h5"), full, 30, folder,
+                              full_folder, "contact", "contact") if status == 0 else \
+        (False, f"exit {status}: {err[-300:]}")
+    check("contact/rewritten-compress0-K30", ok, detail)
     # A scenario: the last reservoir level 760 m instead of 768 m, from the stage before it.
     text = open(deck).read()
     scenario = os.path.join(work, "scenario.dat")

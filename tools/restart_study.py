@@ -11,6 +11,10 @@ raised to 768 m again. Each scenario is run in full, and from the results of the
 at stage 44 (`cfrd --restart BASE.h5 --from-stage 44 SCENARIO.dat`); the restarted results
 must equal the full run's to the last bit (tools/check_restart.py's comparison). Times are
 CPU seconds (user + system of the cfrd process) and wall seconds, OPENBLAS_NUM_THREADS=1.
+
+With `--before BIN` it measures instead what the restart state costs a plain run: the base
+deck run `--pairs` times by BIN (a build without it) and by --cfrd, alternately, CPU seconds
+and the size of the results file.
 """
 
 import os
@@ -51,16 +55,43 @@ def scenario(base_text, i):
     return text
 
 
+def overhead(args, base, work):
+    """CPU seconds of plain runs of `base` by --before and --cfrd, alternately."""
+    cpu = {"before": [], "after": []}
+    size = {}
+    for i in range(args.pairs):
+        order = [("before", args.before), ("after", args.cfrd)]
+        for name, binary in (order if i % 2 == 0 else order[::-1]):
+            folder = os.path.join(work, name)
+            status, seconds, _ = timed([binary, "--quiet", "--out", folder, base])
+            check(f"overhead/{name}-run-{i + 1}", status == 0, f"{seconds:.2f} s CPU")
+            cpu[name].append(seconds)
+            size[name] = os.path.getsize(os.path.join(folder, "base.h5"))
+    for name in ("before", "after"):
+        v = sorted(cpu[name])
+        print(f"{name}: CPU s {', '.join(f'{x:.2f}' for x in cpu[name])}; median "
+              f"{v[len(v) // 2]:.2f}, mean {sum(v) / len(v):.2f}; results file "
+              f"{size[name] / 1e6:.1f} MB")
+    b, a = sorted(cpu["before"]), sorted(cpu["after"])
+    print(f"after / before: median {a[len(a) // 2] / b[len(b) // 2]:.3f}, mean "
+          f"{sum(a) / sum(b):.3f}, fastest {a[0] / b[0]:.3f}; file {size['after'] / size['before']:.3f}")
+    return check.status
+
+
 def main():
     ap = parser(__doc__, cfrd="bin/cfrd", workdir="build/restart-study")
     ap.add_argument("--refine", default="2")
     ap.add_argument("--from-stage", type=int, default=44)
+    ap.add_argument("--before", help="a cfrd without the restart state: measure its cost")
+    ap.add_argument("--pairs", type=int, default=5)
     args = ap.parse_args()
     work = fresh(args.workdir)
     base = os.path.join(work, "base.dat")
     subprocess.run([sys.executable, os.path.join(HERE, "tianshengqiao.py"), "--refine",
                     args.refine, "--interface", "contact", "--deck", base], check=True,
                    capture_output=True)
+    if args.before:
+        return overhead(args, base, work)
     text = open(base).read()
     decks = []
     for i in range(10):

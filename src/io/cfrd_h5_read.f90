@@ -52,21 +52,12 @@ contains
         call h5aclose_f(attr_id, hdferr)
     end function text_attribute
 
-    !> An integer attribute of an object (-1 when absent).
-    integer function int_attribute(file_id, name) result(value)
-        integer(hid_t), intent(in) :: file_id
+    !> An integer attribute of an object (-1 when absent), read through the real one
+    !> (HDF5 converts; exact for 32-bit integers).
+    integer function int_attribute(loc, name) result(value)
+        integer(hid_t), intent(in) :: loc
         character(len=*), intent(in) :: name
-        integer(hid_t) :: attr_id
-        logical :: exists
-        integer :: hdferr, buffer(1)
-        value = -1
-        call h5aexists_f(file_id, name, exists, hdferr)
-        if (hdferr < 0 .or. .not. exists) return
-        call h5aopen_f(file_id, name, attr_id, hdferr)
-        if (hdferr < 0) return
-        call h5aread_f(attr_id, H5T_NATIVE_INTEGER, buffer, [1_hsize_t], hdferr)
-        if (hdferr >= 0) value = buffer(1)
-        call h5aclose_f(attr_id, hdferr)
+        value = nint(real_attribute(loc, name, -1.0_dp))
     end function int_attribute
 
     !> A real attribute of an object (`default` when absent).

@@ -6,18 +6,19 @@
 !> the stage driver needs it for a restart: those fields, the carry, and the stage's figures
 !> (increments, factorisations, times, solver counts) as they were written.
 module cfrd_h5_state
-    use hdf5, only: hid_t, h5gopen_f, h5gclose_f
+    use hdf5, only: hid_t, h5gopen_f, h5gclose_f, h5ocopy_f, h5fflush_f, H5F_SCOPE_GLOBAL_F
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, io_error
     use cfrd_model, only: dry_level, no_date
     use cfrd_results, only: stage_result_t, carry_t
     use cfrd_h5_io, only: h5_state_t, fail, open_group, close_group, dataset_real1, &
-                          dataset_real2, dataset_real3, dataset_int1, attr_real, attr_int
+                          dataset_real2, dataset_real3, dataset_int1, attr_real, attr_int, &
+                          set_attr_int
     use cfrd_h5_read, only: int_attribute, real_attribute, has_object, read_reals, read_ints
     implicit none
     private
 
-    public :: write_stage_state, read_stored_stage
+    public :: write_stage_state, read_stored_stage, copy_stage
 
 contains
 
@@ -92,6 +93,31 @@ contains
         call dataset_real2(id, 'tangent', c%tangent, '-', 'tx, ty', st)
         call close_group(id, st)
     end subroutine write_contact_state
+
+    !> Stage `number` copied as it is (HDF5's object copy: the chunks as stored, no filter
+    !> run again) from the results file `source_id` into the file being written (its
+    !> /stages group `stages_id`, root `file_id`, path `path`), counted in
+    !> `stages_completed` and flushed: what write_stage_h5 would write for the stage when
+    !> both files store their values alike (a restart's stored stages).
+    subroutine copy_stage(source_id, file_id, stages_id, path, number, error)
+        integer(hid_t), intent(in) :: source_id, file_id, stages_id
+        character(len=*), intent(in) :: path
+        integer, intent(in) :: number
+        type(error_t), allocatable, intent(out) :: error
+        type(h5_state_t) :: st
+        character(len=10) :: name
+        integer :: hdferr
+        write (name, '(a,i4.4)') 'stage_', number
+        call h5ocopy_f(source_id, 'stages/'//name, stages_id, name, hdferr)
+        if (hdferr < 0) call fail(st, 'copying '//name)
+        call set_attr_int(file_id, 'stages_completed', number, st)
+        if (st%ok) then
+            call h5fflush_f(file_id, H5F_SCOPE_GLOBAL_F, hdferr)
+            if (hdferr < 0) call fail(st, 'flushing the file')
+        end if
+        if (.not. st%ok) call fatal_error(error, 'cannot write the results file '//path// &
+                                          ': HDF5 failed at '//st%failed, io_error)
+    end subroutine copy_stage
 
     !> Stage `number` of the open results file `file_id` (path `path`, for messages).
     subroutine read_stored_stage(file_id, path, number, stage, error)

@@ -33,6 +33,10 @@ module cfrd_restart
         character(len=:), allocatable :: deck_text    !! /input/deck
         character(len=:), allocatable :: deck_file    !! the deck as its run named it
         character(len=:), allocatable :: deck_sha256, deck_path, run_id
+        !> how it stores its values: a run that stores them alike copies the stored
+        !> stages' groups instead of writing them again
+        integer :: deflate = -1
+        logical :: single = .false.
     end type restart_t
 
 contains
@@ -83,6 +87,8 @@ contains
         source%deck_sha256 = text_attribute(source%file_id, 'deck_sha256')
         source%deck_path = text_attribute(source%file_id, 'deck_path')
         source%run_id = text_attribute(source%file_id, 'run_id')
+        source%deflate = int_attribute(source%file_id, 'deflate_level')
+        source%single = text_attribute(source%file_id, 'fields_precision') == 'float32'
         call read_text(source%file_id, 'input/deck', source%deck_text, st)
         if (.not. st%ok) call fatal_error(error, path//': cannot restart from it: HDF5 '// &
                                           'failed at '//st%failed, input_error)
