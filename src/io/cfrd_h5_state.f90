@@ -6,7 +6,7 @@
 !> the stage driver needs it for a restart: those fields, the carry, and the stage's figures
 !> (increments, factorisations, times, solver counts) as they were written.
 module cfrd_h5_state
-    use hdf5, only: hid_t, h5gopen_f, h5gclose_f, h5ocopy_f, h5fflush_f, H5F_SCOPE_GLOBAL_F
+    use hdf5, only: hid_t, h5gopen_f, h5gclose_f, h5ocopy_f
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, io_error
     use cfrd_model, only: dry_level, no_date
@@ -96,9 +96,10 @@ contains
 
     !> Stage `number` copied as it is (HDF5's object copy: the chunks as stored, no filter
     !> run again) from the results file `source_id` into the file being written (its
-    !> /stages group `stages_id`, root `file_id`, path `path`), counted in
-    !> `stages_completed` and flushed: what write_stage_h5 would write for the stage when
-    !> both files store their values alike (a restart's stored stages).
+    !> /stages group `stages_id`, root `file_id`, path `path`) and counted in
+    !> `stages_completed`: what write_stage_h5 would write for the stage when both files
+    !> store their values alike (a restart's stored stages). Not flushed: the next stage
+    !> written flushes the copies with it (the stored stages are safe in their own file).
     subroutine copy_stage(source_id, file_id, stages_id, path, number, error)
         integer(hid_t), intent(in) :: source_id, file_id, stages_id
         character(len=*), intent(in) :: path
@@ -111,10 +112,6 @@ contains
         call h5ocopy_f(source_id, 'stages/'//name, stages_id, name, hdferr)
         if (hdferr < 0) call fail(st, 'copying '//name)
         call set_attr_int(file_id, 'stages_completed', number, st)
-        if (st%ok) then
-            call h5fflush_f(file_id, H5F_SCOPE_GLOBAL_F, hdferr)
-            if (hdferr < 0) call fail(st, 'flushing the file')
-        end if
         if (.not. st%ok) call fatal_error(error, 'cannot write the results file '//path// &
                                           ': HDF5 failed at '//st%failed, io_error)
     end subroutine copy_stage
