@@ -9,16 +9,21 @@ module cfrd_h5_state
     use hdf5, only: hid_t, h5gopen_f, h5gclose_f, h5ocopy_f
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, io_error
-    use cfrd_model, only: dry_level, no_date
+    use cfrd_model, only: dry_level, no_date, stage_reset
     use cfrd_results, only: stage_result_t, carry_t
     use cfrd_h5_io, only: h5_state_t, fail, open_group, close_group, dataset_real1, &
-                          dataset_real2, dataset_real3, dataset_int1, attr_real, attr_int, &
-                          set_attr_int
-    use cfrd_h5_read, only: int_attribute, real_attribute, has_object, read_reals, read_ints
+                          dataset_real2, dataset_real3, dataset_int1, dataset_int2, &
+                          attr_real, attr_int, set_attr_int
+    use cfrd_h5_read, only: int_attribute, real_attribute, has_object, read_reals, read_ints, &
+                            read_ints2
     implicit none
     private
 
     public :: write_stage_state, read_stored_stage, copy_stage
+
+    !> The columns of state/contact/node_reals and node_flags.
+    character(len=*), parameter :: contact_columns = 'p, q, g0, gap, slip, w, wref, g, '// &
+        'g_curve, normal x, normal y, tangent x, tangent y'
 
 contains
 
@@ -35,8 +40,9 @@ contains
         associate (c => stage%carry)
             call attr_int(id, 'prescribed_done', merge(1, 0, c%prescribed_done), st)
             call attr_real(id, 'contact_scale', [c%contact_scale], st)
-            call dataset_real2(id, 'u_before_reset', c%u_before_reset, 'm', &
-                               'ux, uy: the sum of the displacements at the RESETs', st)
+            ! it changes at RESET stages only: a stage without it has the last one's
+            if (stage%kind == stage_reset) call dataset_real2(id, 'u_before_reset', &
+                c%u_before_reset, 'm', 'ux, uy: the sum of the displacements at the RESETs', st)
             call dataset_real2(id, 'f_ext', c%f_ext, 'kN/m', 'fx, fy applied so far', st)
             if (allocated(c%wetted)) call dataset_int1(id, 'wetted', merge(1, 0, c%wetted), st)
             if (allocated(c%p)) call write_contact_state(id, c, st)
@@ -58,39 +64,35 @@ contains
         st%single = single
     end subroutine write_stage_state
 
-    !> The contact state (cfrd_contact's contact_t) under `state/contact`.
+    !> The contact state (cfrd_contact's contact_t) under `state/contact`: per slave node
+    !> the columns of `node_reals` and `node_flags` (contact_columns, contact_flags).
     subroutine write_contact_state(state_id, c, st)
         integer(hid_t), intent(in) :: state_id
         type(carry_t), intent(in) :: c
         type(h5_state_t), intent(inout) :: st
         integer(hid_t) :: id
+        real(dp), allocatable :: g_curve(:)
+        integer :: nc
+        nc = size(c%p)
+        allocate (g_curve(nc), source=0.0_dp)
+        if (allocated(c%g_curve)) g_curve = c%g_curve
         call open_group(state_id, 'contact', id, st)
         call attr_int(id, 'searches', c%searches, st)
-        call dataset_int1(id, 'placed', merge(1, 0, c%placed), st)
-        call dataset_int1(id, 'supported', merge(1, 0, c%supported), st)
+        call dataset_real2(id, 'node_reals', transpose(reshape([c%p, c%q, c%g0, c%gap, &
+                           c%slip, c%w, c%wref, c%g, g_curve, c%normal(1, :), &
+                           c%normal(2, :), c%tangent(1, :), c%tangent(2, :)], [nc, 13])), &
+                           'kPa, kPa, m, m, m, m, m, m2, m2, -, -, -, -', contact_columns, st)
+        call dataset_int2(id, 'node_flags', transpose(reshape([merge(1, 0, c%placed), &
+                          merge(1, 0, c%supported), c%status, c%slip_sign], [nc, 4])), st)
         if (allocated(c%seg_searched)) then
             call dataset_int1(id, 'seg_searched', merge(1, 0, c%seg_searched), st)
             call dataset_int1(id, 'mseg_searched', merge(1, 0, c%mseg_searched), st)
         end if
-        call dataset_int1(id, 'status', c%status, st)
-        call dataset_int1(id, 'slip_sign', c%slip_sign, st)
         call dataset_int1(id, 'birth', c%birth, st)
         call dataset_int1(id, 'cpl_ptr', c%cpl_ptr, st)
         call dataset_int1(id, 'cpl_node', c%cpl_node, st)
         call dataset_real1(id, 'cpl_a', c%cpl_a, 'm', 'coupling coefficients', st)
-        call dataset_real1(id, 'p', c%p, 'kPa', 'normal pressure', st)
-        call dataset_real1(id, 'q', c%q, 'kPa', 'shear traction', st)
-        call dataset_real1(id, 'g0', c%g0, 'm', 'gap at placement', st)
-        call dataset_real1(id, 'gap', c%gap, 'm', 'gap', st)
-        call dataset_real1(id, 'slip', c%slip, 'm', 'slip', st)
-        call dataset_real1(id, 'w', c%w, 'm', 'sum of D', st)
-        call dataset_real1(id, 'wref', c%wref, 'm', 'tributary length', st)
-        call dataset_real1(id, 'g', c%g, 'm2', 'weighted gap', st)
-        if (allocated(c%g_curve)) call dataset_real1(id, 'g_curve', c%g_curve, 'm2', &
-                                                     'RPIM offset', st)
         call dataset_real2(id, 'u', c%u, 'm', 'ux, uy since placement', st)
-        call dataset_real2(id, 'normal', c%normal, '-', 'nx, ny', st)
-        call dataset_real2(id, 'tangent', c%tangent, '-', 'tx, ty', st)
         call close_group(id, st)
     end subroutine write_contact_state
 
@@ -161,12 +163,42 @@ contains
                 call read_reals(id, 'wetting_gauss', stage%wetting_gauss, st)
             call read_carry(state_id, stage%carry, st)
             call h5gclose_f(state_id, hdferr)
+            call read_u_before_reset(file_id, number, stage, st)
         end if
         call h5gclose_f(stage_id, hdferr)
         if (.not. st%ok) call fatal_error(error, path//': cannot read '//trim(name)// &
                                           ' for the restart: HDF5 failed at '//st%failed, &
                                           io_error)
     end subroutine read_stored_stage
+
+    !> The displacements zeroed by the RESETs up to stage `number`: stored with the last
+    !> RESET stage up to it, zero before the first.
+    subroutine read_u_before_reset(file_id, number, stage, st)
+        integer(hid_t), intent(in) :: file_id
+        integer, intent(in) :: number
+        type(stage_result_t), intent(inout) :: stage
+        type(h5_state_t), intent(inout) :: st
+        integer(hid_t) :: state_id
+        character(len=30) :: name
+        integer :: k, hdferr
+        logical :: found
+        do k = number, 1, -1
+            write (name, '(a,i4.4,a)') 'stages/stage_', k, '/state'
+            call h5gopen_f(file_id, trim(name), state_id, hdferr)
+            if (hdferr < 0) then
+                call fail(st, trim(name))
+                return
+            end if
+            found = has_object(state_id, 'u_before_reset')
+            if (found) call read_reals(state_id, 'u_before_reset', stage%carry%u_before_reset, st)
+            call h5gclose_f(state_id, hdferr)
+            if (found) return
+        end do
+        if (allocated(stage%displacement)) then
+            allocate (stage%carry%u_before_reset, mold=stage%displacement)
+            stage%carry%u_before_reset = 0.0_dp
+        end if
+    end subroutine read_u_before_reset
 
     !> The solver's figures of the stage (its group `solver`).
     subroutine read_stats(stage_id, stage, st)
@@ -211,10 +243,10 @@ contains
         type(h5_state_t), intent(inout) :: st
         integer(hid_t) :: id
         integer :: hdferr
-        integer, allocatable :: flags(:)
+        integer, allocatable :: flags(:), flags2(:, :)
+        real(dp), allocatable :: columns(:, :)
         c%prescribed_done = int_attribute(state_id, 'prescribed_done') == 1
         c%contact_scale = real_attribute(state_id, 'contact_scale', 1.0_dp)
-        call read_reals(state_id, 'u_before_reset', c%u_before_reset, st)
         call read_reals(state_id, 'f_ext', c%f_ext, st)
         if (has_object(state_id, 'wetted')) then
             call read_ints(state_id, 'wetted', flags, st)
@@ -227,34 +259,36 @@ contains
             return
         end if
         c%searches = int_attribute(id, 'searches')
-        call read_ints(id, 'placed', flags, st)
-        c%placed = flags == 1
-        call read_ints(id, 'supported', flags, st)
-        c%supported = flags == 1
+        call read_reals(id, 'node_reals', columns, st)
+        call read_ints2(id, 'node_flags', flags2, st)
+        if (st%ok) then
+            c%p = columns(1, :)
+            c%q = columns(2, :)
+            c%g0 = columns(3, :)
+            c%gap = columns(4, :)
+            c%slip = columns(5, :)
+            c%w = columns(6, :)
+            c%wref = columns(7, :)
+            c%g = columns(8, :)
+            c%g_curve = columns(9, :)
+            c%normal = columns(10:11, :)
+            c%tangent = columns(12:13, :)
+            c%placed = flags2(1, :) == 1
+            c%supported = flags2(2, :) == 1
+            c%status = flags2(3, :)
+            c%slip_sign = flags2(4, :)
+        end if
         if (has_object(id, 'seg_searched')) then
             call read_ints(id, 'seg_searched', flags, st)
             c%seg_searched = flags == 1
             call read_ints(id, 'mseg_searched', flags, st)
             c%mseg_searched = flags == 1
         end if
-        call read_ints(id, 'status', c%status, st)
-        call read_ints(id, 'slip_sign', c%slip_sign, st)
         call read_ints(id, 'birth', c%birth, st)
         call read_ints(id, 'cpl_ptr', c%cpl_ptr, st)
         call read_ints(id, 'cpl_node', c%cpl_node, st)
         call read_reals(id, 'cpl_a', c%cpl_a, st)
-        call read_reals(id, 'p', c%p, st)
-        call read_reals(id, 'q', c%q, st)
-        call read_reals(id, 'g0', c%g0, st)
-        call read_reals(id, 'gap', c%gap, st)
-        call read_reals(id, 'slip', c%slip, st)
-        call read_reals(id, 'w', c%w, st)
-        call read_reals(id, 'wref', c%wref, st)
-        call read_reals(id, 'g', c%g, st)
-        if (has_object(id, 'g_curve')) call read_reals(id, 'g_curve', c%g_curve, st)
         call read_reals(id, 'u', c%u, st)
-        call read_reals(id, 'normal', c%normal, st)
-        call read_reals(id, 'tangent', c%tangent, st)
         call h5gclose_f(id, hdferr)
     end subroutine read_carry
 end module cfrd_h5_state
