@@ -175,34 +175,22 @@ def contact_cases(cfrd, deck, full, work):
     scenario = os.path.join(work, "scenario.dat")
     open(scenario, "w").write(re.sub(r"^WATER          768\.0", "WATER          760.0", text,
                                      flags=re.M))
-    ref_folder, folder = os.path.join(work, "scenario-full"), os.path.join(work, "scenario")
-    status, err = run([cfrd, "--quiet", "--out", ref_folder, scenario])
-    status2, err2 = run([cfrd, "--quiet", "--restart", full, "--from-stage", "44", "--out",
-                         folder, scenario])
-    if status or status2:
-        check("contact/scenario-after-K44", False, f"exit {status}/{status2}: {err}{err2}")
-    else:
-        ok, detail = same_results(os.path.join(folder, "scenario.h5"), os.path.join(
-            ref_folder, "scenario.h5"), 44, folder, ref_folder, "scenario", "scenario")
-        with h5py.File(os.path.join(folder, "scenario.h5"), "r") as f:
+
+    def last_level(h5):
+        with h5py.File(h5, "r") as f:
             level = float(f["stages/stage_0045"].attrs["water_level"])
-        check("contact/scenario-after-K44", ok and level == 760.0,
-              f"last level {level} m; against a full run of the scenario deck: {detail}")
+        return level == 760.0, f"last level {level} m"
+    against_own_run(cfrd, work, "scenario-after-K44", scenario, 44, [], [scenario], last_level,
+                    source=full)
+
     # --float32: the state is kept in double beside the single fields.
-    f32_full, folder = os.path.join(work, "f32-full"), os.path.join(work, "f32")
-    status, err = run([cfrd, "--quiet", "--float32", "--out", f32_full, deck])
-    status2, err2 = run([cfrd, "--quiet", "--float32", "--restart", os.path.join(
-        f32_full, "contact.h5"), "--from-stage", "35", "--out", folder])
-    if status or status2:
-        check("contact/float32-K35", False, f"exit {status}/{status2}: {err}{err2}")
-    else:
-        ok, detail = same_results(os.path.join(folder, "contact.h5"), os.path.join(
-            f32_full, "contact.h5"), 35, folder, f32_full, "contact", "contact")
-        with h5py.File(os.path.join(folder, "contact.h5"), "r") as f:
+    def doubles(h5):
+        with h5py.File(h5, "r") as f:
             kinds = (f["stages/stage_0035/stress_gauss"].dtype,
                      f["stages/stage_0035/state/stress_gauss"].dtype)
-        check("contact/float32-K35", ok and kinds == (np.float32, np.float64),
-              f"stress_gauss {kinds[0]}, state/stress_gauss {kinds[1]}; {detail}")
+        return kinds == (np.float32, np.float64), f"stress_gauss {kinds[0]}, " \
+            f"state/stress_gauss {kinds[1]}"
+    against_own_run(cfrd, work, "float32-K35", deck, 35, ["--float32"], [], doubles)
     # SIGTERM, then finish from DECK.incomplete.h5.
     folder = fresh(os.path.join(work, "stopped"))
     stopped = shutil.copy(deck, os.path.join(folder, "contact.dat"))
@@ -222,6 +210,24 @@ def contact_cases(cfrd, deck, full, work):
     check("contact/sigterm-then-restart", ok and not os.path.exists(incomplete),
           f"stopped after stage {kept}, finished from contact.incomplete.h5 (removed: "
           f"{not os.path.exists(incomplete)}): {detail}")
+
+
+def against_own_run(cfrd, work, name, deck, k, options, deck_args, extra, source=None):
+    """A full run of `deck` with `options`, and a restart from stage k of its results (or of
+    `source`) with the same options (and `deck_args`): equal, and extra(restarted h5) ->
+    (ok, detail)."""
+    stem = os.path.splitext(os.path.basename(deck))[0]
+    ref, folder = os.path.join(work, name + "-full"), os.path.join(work, name)
+    status, err = run([cfrd, "--quiet", *options, "--out", ref, deck])
+    status2, err2 = run([cfrd, "--quiet", *options, "--restart", source or os.path.join(
+        ref, stem + ".h5"), "--from-stage", str(k), "--out", folder, *deck_args])
+    if status or status2:
+        check(f"contact/{name}", False, f"exit {status}/{status2}: {err}{err2}")
+        return
+    ok, detail = same_results(os.path.join(folder, stem + ".h5"), os.path.join(
+        ref, stem + ".h5"), k, folder, ref, stem, stem)
+    ok2, detail2 = extra(os.path.join(folder, stem + ".h5"))
+    check(f"contact/{name}", ok and ok2, f"{detail2}; against a full run: {detail}")
 
 
 def refusals(cfrd, deck, full, work):
