@@ -34,13 +34,8 @@ contains
         type(h5_state_t), intent(inout) :: st
         integer(hid_t) :: id
         logical :: single
-        integer :: deflate
         single = st%single
-        deflate = st%deflate
-        ! doubles, and unfiltered: deflate gains little on them and would cost a run about
-        ! 3 % more time (docs/performance.md (j))
         st%single = .false.
-        st%deflate = 0
         call open_group(stage_id, 'state', id, st)
         associate (c => stage%carry)
             call attr_int(id, 'prescribed_done', merge(1, 0, c%prescribed_done), st)
@@ -67,7 +62,6 @@ contains
         end if
         call close_group(id, st)
         st%single = single
-        st%deflate = deflate
     end subroutine write_stage_state
 
     !> The contact state (cfrd_contact's contact_t) under `state/contact`: per slave node
