@@ -292,9 +292,7 @@ contains
         type(error_t), allocatable :: error
         if (allocated(current%write_error)) then
             continue
-        else if (number <= current%source%from_stage .and. &
-                 current%source%deflate == options%format%deflate .and. &
-                 (current%source%single .eqv. options%format%single)) then
+        else if (copies_stage(number)) then
             ! cfrd --restart: a stored stage, stored as this run stores it: copied
             call add_stage(current%output, current%model, number, stage, error, &
                            current%source%file_id)
@@ -311,12 +309,25 @@ contains
         flush (output_unit)
     end subroutine stream_stage
 
+    !> cfrd --restart: whether stage `number` is a stored one stored as this run stores
+    !> its values (then its HDF5 group is copied).
+    logical function copies_stage(number)
+        integer, intent(in) :: number
+        copies_stage = number <= current%source%from_stage .and. &
+                       current%source%deflate == options%format%deflate .and. &
+                       (current%source%single .eqv. options%format%single)
+    end function copies_stage
+
     !> cfrd --restart: stage `number` as the results file continued from stored it.
-    subroutine stored_stage(number, stage, error)
+    !> `light` stays true for a stage whose HDF5 group is copied (copies_stage) when no
+    !> legacy listing needs its full results.
+    subroutine stored_stage(number, stage, light, error)
         integer, intent(in) :: number
         type(stage_result_t), intent(out) :: stage
+        logical, intent(inout) :: light
         type(error_t), allocatable, intent(out) :: error
-        call read_restart_stage(current%source, number, stage, error)
+        light = light .and. copies_stage(number) .and. .not. options%legacy_listing
+        call read_restart_stage(current%source, number, stage, light, error)
     end subroutine stored_stage
 
     subroutine parse_command_line(options, decks, error)

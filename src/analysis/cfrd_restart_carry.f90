@@ -76,16 +76,19 @@ contains
         state%u = stage%displacement
         state%stress = stage%stress_gauss
         state%strain = stage%strain_gauss
-        state%history = stage%history_gauss
         state%active = stage%active
         state%level = stage%water_level
         state%day = stage%day
-        if (allocated(state%creep)) state%creep = stage%creep_gauss
-        if (allocated(state%wet)) state%wet = stage%wetting_gauss
+        ! a light stage (cfrd_stage_driver: stored_interface) leaves the rest out
+        if (allocated(stage%history_gauss)) state%history = stage%history_gauss
+        if (allocated(state%creep) .and. allocated(stage%creep_gauss)) &
+            state%creep = stage%creep_gauss
+        if (allocated(state%wet) .and. allocated(stage%wetting_gauss)) &
+            state%wet = stage%wetting_gauss
         if (allocated(state%creep_stress)) state%creep_stress = 0.0_dp
         associate (carry => stage%carry)
             state%u_before_reset = carry%u_before_reset
-            state%f_ext = carry%f_ext
+            if (allocated(carry%f_ext)) state%f_ext = carry%f_ext
             state%prescribed_done = carry%prescribed_done
             if (allocated(state%wetted)) state%wetted = carry%wetted
         end associate

@@ -40,11 +40,15 @@ module cfrd_stage_driver
         end subroutine progress_interface
 
         !> Gives stage `number` of a results file as stored: its fields, carry and
-        !> figures (a restart, cfrd --restart).
-        subroutine stored_interface(number, stage, error)
+        !> figures (a restart, cfrd --restart). `light` (asked for the stages before the
+        !> last stored one): only what a stage's summary and CSV rows need may be given
+        !> (displacements, stresses, strains, the contact state, near_failure); the callee
+        !> sets it false when it gives, and needs, everything.
+        subroutine stored_interface(number, stage, light, error)
             import :: stage_result_t, error_t
             integer, intent(in) :: number
             type(stage_result_t), intent(out) :: stage
+            logical, intent(inout) :: light
             type(error_t), allocatable, intent(out) :: error
         end subroutine stored_interface
     end interface
@@ -103,10 +107,12 @@ contains
             integer, intent(in) :: number
             type(stage_result_t), intent(inout) :: result
             type(error_t), allocatable, intent(out) :: error
-            call stored(number, result, error)
+            logical :: light
+            light = number < restart
+            call stored(number, result, light, error)
             if (allocated(error)) return
             call restore_state(result, state)
-            call record(model, library, state, result)
+            call record(model, library, state, result, light)
             call stage_labels(model%stages(number), state, result)
             if (number < restart .or. number == size(model%stages)) return
             call new_system(model, library, state%active, system, error, state%contact, &
@@ -411,16 +417,33 @@ contains
     end subroutine run_increments
 
     !> The stage's results: displacements, stresses, principal stresses, reactions.
-    subroutine record(model, library, state, result)
+    !> `light`: a stored stage's summary and CSV rows only (stress levels, centroid and
+    !> principal stresses, reactions and the Gauss-point fields are left out).
+    subroutine record(model, library, state, result, light)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(in) :: state
         type(stage_result_t), intent(inout) :: result
+        logical, intent(in), optional :: light
         real(dp), allocatable :: f_int(:, :)
         logical, allocatable :: used(:)
         integer :: e, ig, ng
         associate (mesh => model%mesh)
             result%active = state%active
+            result%displacement = state%u
+            result%displacement_total = state%u_before_reset + state%u
+            if (allocated(model%interfaces)) then
+                call interface_stations(model, state%stress, state%strain, state%active, &
+                                        result%interface)
+                call phase_openings(model, result%interface, result%openings)
+            end if
+            if (allocated(model%slab_groups)) &
+                call slab_stresses(model, state%stress, state%active, result%slab)
+            if (state%has_contact) call record_contact(model, state%contact, state%active, &
+                                                       result%contact, result%openings)
+            if (present(light)) then
+                if (light) return
+            end if
             allocate (result%stress_level(mesh%nelem), source=0.0_dp)
             do e = 1, mesh%nelem
                 if (.not. state%active(e)) cycle
@@ -432,20 +455,11 @@ contains
             end do
             ! Near failure: stress level 0.95 or more (the law caps it at 0.99).
             result%near_failure = count(result%stress_level >= 0.95_dp)
-            result%displacement = state%u
-            result%displacement_total = state%u_before_reset + state%u
             result%stress_gauss = state%stress
             result%strain_gauss = state%strain
             result%history_gauss = state%history
             if (allocated(state%creep)) result%creep_gauss = state%creep
             if (allocated(state%wet)) result%wetting_gauss = state%wet
-            if (allocated(model%interfaces)) then
-                call interface_stations(model, state%stress, state%strain, state%active, &
-                                        result%interface)
-                call phase_openings(model, result%interface, result%openings)
-            end if
-            if (allocated(model%slab_groups)) &
-                call slab_stresses(model, state%stress, state%active, result%slab)
             allocate (result%stress_centroid(4, mesh%nelem), result%principal(3, mesh%nelem))
             do e = 1, mesh%nelem
                 ng = library(mesh%kind(e))%element%gauss_points()
@@ -465,8 +479,6 @@ contains
                     call contact_forces(state%contact, f_contact)
                     f_int = f_int - f_contact
                 end block
-                call record_contact(model, state%contact, state%active, result%contact, &
-                                    result%openings)
             end if
             used = active_nodes(model, state%active)
             result%reaction = merge(f_int - state%f_ext, 0.0_dp, &

@@ -119,12 +119,15 @@ contains
     end subroutine copy_stage
 
     !> Stage `number` of the open results file `file_id` (path `path`, for messages).
-    subroutine read_stored_stage(file_id, path, number, stage, error)
+    !> `light`: only what the stage's summary and CSV rows need (not the history, creep and
+    !> wetting strains, nor the applied load).
+    subroutine read_stored_stage(file_id, path, number, stage, error, light)
         integer(hid_t), intent(in) :: file_id
         character(len=*), intent(in) :: path
         integer, intent(in) :: number
         type(stage_result_t), intent(out) :: stage
         type(error_t), allocatable, intent(out) :: error
+        logical, intent(in) :: light
         type(h5_state_t) :: st
         integer(hid_t) :: stage_id, state_id, id
         integer :: hdferr
@@ -144,6 +147,7 @@ contains
         stage%wall_time = real_attribute(stage_id, 'wall_time', 0.0_dp)
         stage%water_level = real_attribute(stage_id, 'water_level', dry_level)
         stage%day = real_attribute(stage_id, 'day', no_date)
+        stage%near_failure = int_attribute(stage_id, 'near_failure')
         call read_stats(stage_id, stage, st)
         call read_ints(stage_id, 'active', flags, st)
         stage%active = flags == 1
@@ -156,11 +160,14 @@ contains
             call read_reals(id, 'displacement', stage%displacement, st)
             call read_reals(id, 'stress_gauss', stage%stress_gauss, st)
             call read_reals(id, 'strain_gauss', stage%strain_gauss, st)
-            call read_reals(id, 'history_gauss', stage%history_gauss, st)
-            if (has_object(stage_id, 'creep_gauss')) &
-                call read_reals(id, 'creep_gauss', stage%creep_gauss, st)
-            if (has_object(stage_id, 'wetting_gauss')) &
-                call read_reals(id, 'wetting_gauss', stage%wetting_gauss, st)
+            if (.not. light) then
+                call read_reals(id, 'history_gauss', stage%history_gauss, st)
+                if (has_object(stage_id, 'creep_gauss')) &
+                    call read_reals(id, 'creep_gauss', stage%creep_gauss, st)
+                if (has_object(stage_id, 'wetting_gauss')) &
+                    call read_reals(id, 'wetting_gauss', stage%wetting_gauss, st)
+                call read_reals(state_id, 'f_ext', stage%carry%f_ext, st)
+            end if
             call read_carry(state_id, stage%carry, st)
             call h5gclose_f(state_id, hdferr)
             call read_u_before_reset(file_id, number, stage, st)
@@ -247,7 +254,6 @@ contains
         real(dp), allocatable :: columns(:, :)
         c%prescribed_done = int_attribute(state_id, 'prescribed_done') == 1
         c%contact_scale = real_attribute(state_id, 'contact_scale', 1.0_dp)
-        call read_reals(state_id, 'f_ext', c%f_ext, st)
         if (has_object(state_id, 'wetted')) then
             call read_ints(state_id, 'wetted', flags, st)
             c%wetted = flags == 1

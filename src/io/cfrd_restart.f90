@@ -143,12 +143,14 @@ contains
     end function restart_stem
 
     !> Stage `number` as stored (for the stage driver).
-    subroutine read_restart_stage(source, number, stage, error)
+    !> `light`: only what the stage's summary and CSV rows need (read_stored_stage).
+    subroutine read_restart_stage(source, number, stage, light, error)
         type(restart_t), intent(in) :: source
         integer, intent(in) :: number
         type(stage_result_t), intent(out) :: stage
+        logical, intent(in) :: light
         type(error_t), allocatable, intent(out) :: error
-        call read_stored_stage(source%file_id, source%path, number, stage, error)
+        call read_stored_stage(source%file_id, source%path, number, stage, error, light)
     end subroutine read_restart_stage
 
     subroutine close_restart(source)
