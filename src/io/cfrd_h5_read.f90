@@ -15,7 +15,7 @@ module cfrd_h5_read
     private
 
     public :: text_attribute, int_attribute, real_attribute, has_object
-    public :: read_reals, read_ints, read_ints2, read_text
+    public :: read_reals, read_ints, read_text
 
 contains
 
@@ -167,17 +167,6 @@ contains
         if (st%ok) call h5dread_f(dset_id, H5T_NATIVE_INTEGER, values, dims, hdferr)
         call close_dataset(dset_id, name, hdferr, st)
     end subroutine read_ints
-
-    !> A dataset of integers of rank 2, read through read_reals (exact for 32-bit values).
-    subroutine read_ints2(loc, name, values, st)
-        integer(hid_t), intent(in) :: loc
-        character(len=*), intent(in) :: name
-        integer, allocatable, intent(out) :: values(:, :)
-        type(h5_state_t), intent(inout) :: st
-        real(dp), allocatable :: reals(:, :)
-        call read_reals(loc, name, reals, st)
-        values = nint(reals)
-    end subroutine read_ints2
 
     !> A scalar string dataset (the deck, /input/deck), as written (its length).
     subroutine read_text(loc, name, text, st)

@@ -12,40 +12,60 @@ module cfrd_h5_state
     use cfrd_model, only: dry_level, no_date, stage_reset
     use cfrd_results, only: stage_result_t, carry_t
     use cfrd_h5_io, only: h5_state_t, fail, open_group, close_group, dataset_real1, &
-                          dataset_real2, dataset_real3, dataset_int1, dataset_int2, &
+                          dataset_real2, dataset_real3, dataset_int1, &
                           attr_real, attr_int, set_attr_int
-    use cfrd_h5_read, only: int_attribute, real_attribute, has_object, read_reals, read_ints, &
-                            read_ints2
+    use cfrd_h5_read, only: int_attribute, real_attribute, has_object, read_reals, read_ints
     implicit none
     private
 
     public :: write_stage_state, read_stored_stage, copy_stage
 
-    !> The columns of state/contact/node_reals and node_flags.
-    character(len=*), parameter :: contact_columns = 'p, q, g0, gap, slip, w, wref, g, '// &
-        'g_curve, normal x, normal y, tangent x, tangent y'
+    !> state/ints starts with nlengths lengths (state_lengths); state/reals holds, in order:
+    character(len=*), parameter :: state_reals = 'f_ext (2, nnode); u_before_reset '// &
+        '(2, nnode) at RESET stages; with contact, per slave node p, q, g0, gap, slip, w, '// &
+        'wref, g, g_curve, normal (2, nc), tangent (2, nc), then cpl_a (ncpl), u (2, nnode)'
+    integer, parameter :: nlengths = 8
 
 contains
 
-    !> The group `state` of the stage group `stage_id`.
+    !> The group `state` of the stage group `stage_id`: attributes, and the carry packed in
+    !> two datasets, `reals` and `ints` (few HDF5 objects: each costs a run time), laid out
+    !> as state_lengths says.
     subroutine write_stage_state(stage_id, stage, st)
         integer(hid_t), intent(in) :: stage_id
         type(stage_result_t), intent(in) :: stage
         type(h5_state_t), intent(inout) :: st
         integer(hid_t) :: id
+        integer :: n(nlengths)
         logical :: single
+        real(dp), allocatable :: reals(:), g_curve(:)
+        integer, allocatable :: ints(:)
         single = st%single
         st%single = .false.
         call open_group(stage_id, 'state', id, st)
         associate (c => stage%carry)
             call attr_int(id, 'prescribed_done', merge(1, 0, c%prescribed_done), st)
             call attr_real(id, 'contact_scale', [c%contact_scale], st)
+            call attr_int(id, 'searches', c%searches, st)
+            n = state_lengths(stage)
+            reals = pack(c%f_ext, .true.)
             ! it changes at RESET stages only: a stage without it has the last one's
-            if (stage%kind == stage_reset) call dataset_real2(id, 'u_before_reset', &
-                c%u_before_reset, 'm', 'ux, uy: the sum of the displacements at the RESETs', st)
-            call dataset_real2(id, 'f_ext', c%f_ext, 'kN/m', 'fx, fy applied so far', st)
-            if (allocated(c%wetted)) call dataset_int1(id, 'wetted', merge(1, 0, c%wetted), st)
-            if (allocated(c%p)) call write_contact_state(id, c, st)
+            if (n(7) == 1) reals = [reals, pack(c%u_before_reset, .true.)]
+            ints = n
+            if (n(8) == 1) ints = [ints, merge(1, 0, c%wetted)]
+            if (n(3) >= 0) then
+                allocate (g_curve(n(3)), source=0.0_dp)
+                if (allocated(c%g_curve)) g_curve = c%g_curve
+                reals = [reals, c%p, c%q, c%g0, c%gap, c%slip, c%w, c%wref, c%g, g_curve, &
+                         pack(c%normal, .true.), pack(c%tangent, .true.), c%cpl_a, &
+                         pack(c%u, .true.)]
+                ints = [ints, merge(1, 0, c%placed), merge(1, 0, c%supported), c%status, &
+                        c%slip_sign, c%birth, c%cpl_ptr, c%cpl_node]
+                if (n(5) >= 0) ints = [ints, merge(1, 0, c%seg_searched), &
+                                       merge(1, 0, c%mseg_searched)]
+            end if
+            call dataset_real1(id, 'reals', reals, 'kN/m, m, kPa, m2, -', state_reals, st)
+            call dataset_int1(id, 'ints', ints, st)
         end associate
         if (single) then
             ! the fields the next stage starts from, to the bit (the stage's are single)
@@ -64,37 +84,22 @@ contains
         st%single = single
     end subroutine write_stage_state
 
-    !> The contact state (cfrd_contact's contact_t) under `state/contact`: per slave node
-    !> the columns of `node_reals` and `node_flags` (contact_columns, contact_flags).
-    subroutine write_contact_state(state_id, c, st)
-        integer(hid_t), intent(in) :: state_id
-        type(carry_t), intent(in) :: c
-        type(h5_state_t), intent(inout) :: st
-        integer(hid_t) :: id
-        real(dp), allocatable :: g_curve(:)
-        integer :: nc
-        nc = size(c%p)
-        allocate (g_curve(nc), source=0.0_dp)
-        if (allocated(c%g_curve)) g_curve = c%g_curve
-        call open_group(state_id, 'contact', id, st)
-        call attr_int(id, 'searches', c%searches, st)
-        call dataset_real2(id, 'node_reals', transpose(reshape([c%p, c%q, c%g0, c%gap, &
-                           c%slip, c%w, c%wref, c%g, g_curve, c%normal(1, :), &
-                           c%normal(2, :), c%tangent(1, :), c%tangent(2, :)], [nc, 13])), &
-                           'kPa, kPa, m, m, m, m, m, m2, m2, -, -, -, -', contact_columns, st)
-        call dataset_int2(id, 'node_flags', transpose(reshape([merge(1, 0, c%placed), &
-                          merge(1, 0, c%supported), c%status, c%slip_sign], [nc, 4])), st)
-        if (allocated(c%seg_searched)) then
-            call dataset_int1(id, 'seg_searched', merge(1, 0, c%seg_searched), st)
-            call dataset_int1(id, 'mseg_searched', merge(1, 0, c%mseg_searched), st)
-        end if
-        call dataset_int1(id, 'birth', c%birth, st)
-        call dataset_int1(id, 'cpl_ptr', c%cpl_ptr, st)
-        call dataset_int1(id, 'cpl_node', c%cpl_node, st)
-        call dataset_real1(id, 'cpl_a', c%cpl_a, 'm', 'coupling coefficients', st)
-        call dataset_real2(id, 'u', c%u, 'm', 'ux, uy since placement', st)
-        call close_group(id, st)
-    end subroutine write_contact_state
+    !> The lengths that lay `state/reals` and `state/ints` out (the first nlengths values of
+    !> `ints`): nodes, elements, slave nodes (-1: no contact), couplings, slave and master
+    !> segments searched (-1: none yet), whether u_before_reset and wetted are there.
+    function state_lengths(stage) result(n)
+        type(stage_result_t), intent(in) :: stage
+        integer :: n(nlengths)
+        associate (c => stage%carry)
+            n = [size(c%f_ext, 2), size(stage%active), -1, 0, -1, -1, &
+                 merge(1, 0, stage%kind == stage_reset), merge(1, 0, allocated(c%wetted))]
+            if (allocated(c%p)) then
+                n(3:4) = [size(c%p), size(c%cpl_a)]
+                if (allocated(c%seg_searched)) n(5:6) = [size(c%seg_searched), &
+                                                         size(c%mseg_searched)]
+            end if
+        end associate
+    end function state_lengths
 
     !> Stage `number` copied as it is (HDF5's object copy: the chunks as stored, no filter
     !> run again) from the results file `source_id` into the file being written (its
@@ -166,7 +171,6 @@ contains
                     call read_reals(id, 'creep_gauss', stage%creep_gauss, st)
                 if (has_object(stage_id, 'wetting_gauss')) &
                     call read_reals(id, 'wetting_gauss', stage%wetting_gauss, st)
-                call read_reals(state_id, 'f_ext', stage%carry%f_ext, st)
             end if
             call read_carry(state_id, stage%carry, st)
             call h5gclose_f(state_id, hdferr)
@@ -187,8 +191,9 @@ contains
         type(h5_state_t), intent(inout) :: st
         integer(hid_t) :: state_id
         character(len=30) :: name
-        integer :: k, hdferr
-        logical :: found
+        integer :: k, hdferr, nnode
+        integer, allocatable :: ints(:)
+        real(dp), allocatable :: reals(:)
         do k = number, 1, -1
             write (name, '(a,i4.4,a)') 'stages/stage_', k, '/state'
             call h5gopen_f(file_id, trim(name), state_id, hdferr)
@@ -196,15 +201,19 @@ contains
                 call fail(st, trim(name))
                 return
             end if
-            found = has_object(state_id, 'u_before_reset')
-            if (found) call read_reals(state_id, 'u_before_reset', stage%carry%u_before_reset, st)
+            call read_ints(state_id, 'ints', ints, st)
+            if (st%ok) then
+                if (ints(7) == 1) call read_reals(state_id, 'reals', reals, st)
+            end if
             call h5gclose_f(state_id, hdferr)
-            if (found) return
+            if (.not. st%ok) return
+            nnode = ints(1)
+            if (ints(7) == 1) then
+                stage%carry%u_before_reset = reshape(reals(2*nnode + 1:4*nnode), [2, nnode])
+                return
+            end if
         end do
-        if (allocated(stage%displacement)) then
-            allocate (stage%carry%u_before_reset, mold=stage%displacement)
-            stage%carry%u_before_reset = 0.0_dp
-        end if
+        allocate (stage%carry%u_before_reset(2, nnode), source=0.0_dp)
     end subroutine read_u_before_reset
 
     !> The solver's figures of the stage (its group `solver`).
@@ -244,57 +253,70 @@ contains
         call h5gclose_f(id, hdferr)
     end subroutine read_stats
 
+    !> The carry from state/reals and state/ints (write_stage_state); u_before_reset is
+    !> read by read_u_before_reset.
     subroutine read_carry(state_id, c, st)
         integer(hid_t), intent(in) :: state_id
         type(carry_t), intent(inout) :: c
         type(h5_state_t), intent(inout) :: st
-        integer(hid_t) :: id
-        integer :: hdferr
-        integer, allocatable :: flags(:), flags2(:, :)
-        real(dp), allocatable :: columns(:, :)
+        integer, allocatable :: ints(:)
+        real(dp), allocatable :: reals(:)
+        integer :: n(nlengths), r, i, nnode, nc
         c%prescribed_done = int_attribute(state_id, 'prescribed_done') == 1
         c%contact_scale = real_attribute(state_id, 'contact_scale', 1.0_dp)
-        if (has_object(state_id, 'wetted')) then
-            call read_ints(state_id, 'wetted', flags, st)
-            c%wetted = flags == 1
+        c%searches = int_attribute(state_id, 'searches')
+        call read_ints(state_id, 'ints', ints, st)
+        call read_reals(state_id, 'reals', reals, st)
+        if (.not. st%ok) return
+        n = ints(1:nlengths)
+        nnode = n(1)
+        nc = n(3)
+        c%f_ext = reshape(reals(1:2*nnode), [2, nnode])
+        r = 2*nnode + 2*nnode*n(7)
+        i = nlengths
+        if (n(8) == 1) then
+            c%wetted = ints(i + 1:i + n(2)) == 1
+            i = i + n(2)
         end if
-        if (.not. has_object(state_id, 'contact')) return
-        call h5gopen_f(state_id, 'contact', id, hdferr)
-        if (hdferr < 0) then
-            call fail(st, 'state/contact')
-            return
+        if (nc < 0) return
+        c%p = take(nc)
+        c%q = take(nc)
+        c%g0 = take(nc)
+        c%gap = take(nc)
+        c%slip = take(nc)
+        c%w = take(nc)
+        c%wref = take(nc)
+        c%g = take(nc)
+        c%g_curve = take(nc)
+        c%normal = reshape(take(2*nc), [2, nc])
+        c%tangent = reshape(take(2*nc), [2, nc])
+        c%cpl_a = take(n(4))
+        c%u = reshape(take(2*nnode), [2, nnode])
+        c%placed = next(nc) == 1
+        c%supported = next(nc) == 1
+        c%status = next(nc)
+        c%slip_sign = next(nc)
+        c%birth = next(nnode)
+        c%cpl_ptr = next(nc + 1)
+        c%cpl_node = next(n(4))
+        if (n(5) >= 0) then
+            c%seg_searched = next(n(5)) == 1
+            c%mseg_searched = next(n(6)) == 1
         end if
-        c%searches = int_attribute(id, 'searches')
-        call read_reals(id, 'node_reals', columns, st)
-        call read_ints2(id, 'node_flags', flags2, st)
-        if (st%ok) then
-            c%p = columns(1, :)
-            c%q = columns(2, :)
-            c%g0 = columns(3, :)
-            c%gap = columns(4, :)
-            c%slip = columns(5, :)
-            c%w = columns(6, :)
-            c%wref = columns(7, :)
-            c%g = columns(8, :)
-            c%g_curve = columns(9, :)
-            c%normal = columns(10:11, :)
-            c%tangent = columns(12:13, :)
-            c%placed = flags2(1, :) == 1
-            c%supported = flags2(2, :) == 1
-            c%status = flags2(3, :)
-            c%slip_sign = flags2(4, :)
-        end if
-        if (has_object(id, 'seg_searched')) then
-            call read_ints(id, 'seg_searched', flags, st)
-            c%seg_searched = flags == 1
-            call read_ints(id, 'mseg_searched', flags, st)
-            c%mseg_searched = flags == 1
-        end if
-        call read_ints(id, 'birth', c%birth, st)
-        call read_ints(id, 'cpl_ptr', c%cpl_ptr, st)
-        call read_ints(id, 'cpl_node', c%cpl_node, st)
-        call read_reals(id, 'cpl_a', c%cpl_a, st)
-        call read_reals(id, 'u', c%u, st)
-        call h5gclose_f(id, hdferr)
+    contains
+        !> the next m reals
+        function take(m) result(v)
+            integer, intent(in) :: m
+            real(dp) :: v(m)
+            v = reals(r + 1:r + m)
+            r = r + m
+        end function take
+        !> the next m integers
+        function next(m) result(v)
+            integer, intent(in) :: m
+            integer :: v(m)
+            v = ints(i + 1:i + m)
+            i = i + m
+        end function next
     end subroutine read_carry
 end module cfrd_h5_state
