@@ -36,12 +36,16 @@ contains
         type(stage_result_t), intent(in) :: stage
         type(h5_state_t), intent(inout) :: st
         integer(hid_t) :: id
-        integer :: n(nlengths)
+        integer :: n(nlengths), deflate
         logical :: single
         real(dp), allocatable :: reals(:), g_curve(:)
         integer, allocatable :: ints(:)
         single = st%single
+        deflate = st%deflate
+        ! the packed state unfiltered: deflate gains little on its values and cost a run 4 %
+        ! of its time (docs/performance.md (j))
         st%single = .false.
+        st%deflate = 0
         call open_group(stage_id, 'state', id, st)
         associate (c => stage%carry)
             call attr_int(id, 'prescribed_done', merge(1, 0, c%prescribed_done), st)
@@ -67,8 +71,10 @@ contains
             call dataset_real1(id, 'reals', reals, 'kN/m, m, kPa, m2, -', state_reals, st)
             call dataset_int1(id, 'ints', ints, st)
         end associate
+        st%deflate = deflate
         if (single) then
-            ! the fields the next stage starts from, to the bit (the stage's are single)
+            ! the fields the next stage starts from, to the bit (the stage's are single;
+            ! filtered as they are: a --float32 run asked for a small file)
             call dataset_real2(id, 'displacement', stage%displacement, 'm', 'ux, uy', st)
             call dataset_real3(id, 'stress_gauss', stage%stress_gauss, 'kPa', &
                                'xx, yy, zz, xy', st)
@@ -82,6 +88,7 @@ contains
         end if
         call close_group(id, st)
         st%single = single
+        st%deflate = deflate
     end subroutine write_stage_state
 
     !> The lengths that lay `state/reals` and `state/ints` out (the first nlengths values of
