@@ -1,6 +1,6 @@
 !> Reading an HDF5 results file back (cfrd --check, cfrd --restart): attributes of any
 !> object, and datasets of doubles or integers of any shape the file has, each read checked.
-!> As in the writers (cfrd_h5_io), the first failure is carried in `h5_state_t` and later
+!> As in the writers (cfrd_h5_datasets), the first failure is carried in `h5_state_t` and later
 !> reads are skipped; the caller turns it into an error naming the object.
 module cfrd_h5_read
     use hdf5, only: hid_t, size_t, hsize_t, h5aexists_f, h5aopen_f, h5aread_f, h5aclose_f, &
@@ -10,7 +10,7 @@ module cfrd_h5_read
                     h5sget_simple_extent_ndims_f, h5sget_simple_extent_dims_f, h5lexists_f, &
                     h5dget_type_f
     use cfrd_kinds, only: dp
-    use cfrd_h5_io, only: h5_state_t, fail
+    use cfrd_h5_datasets, only: h5_state_t, fail
     implicit none
     private
 

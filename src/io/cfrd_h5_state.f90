@@ -11,7 +11,7 @@ module cfrd_h5_state
     use cfrd_error, only: error_t, fatal_error, io_error
     use cfrd_model, only: dry_level, no_date, stage_reset
     use cfrd_results, only: stage_result_t, carry_t
-    use cfrd_h5_io, only: h5_state_t, fail, open_group, close_group, dataset_real1, &
+    use cfrd_h5_datasets, only: h5_state_t, fail, open_group, close_group, dataset_real1, &
                           dataset_real2, dataset_real3, dataset_int1, &
                           attr_real, attr_int, set_attr_int
     use cfrd_h5_read, only: int_attribute, real_attribute, has_object, read_reals, read_ints

@@ -12,7 +12,7 @@ module cfrd_hdf5
     use, intrinsic :: iso_fortran_env, only: compiler_version
     use hdf5, only: hid_t, h5open_f, h5close_f, h5fcreate_f, h5fclose_f, h5fflush_f, &
                     h5gclose_f, h5eset_auto_f, H5F_ACC_TRUNC_F, H5F_SCOPE_GLOBAL_F
-    use cfrd_h5_io, only: h5_state_t, fail, open_group, close_group, dataset_real1, &
+    use cfrd_h5_datasets, only: h5_state_t, fail, open_group, close_group, dataset_real1, &
                           dataset_real2, dataset_real3, dataset_int1, dataset_int2, &
                           dataset_text, dataset_names, attr_text, attr_real, attr_int, &
                           set_attr_int

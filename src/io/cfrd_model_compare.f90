@@ -43,12 +43,14 @@ contains
         end associate
         call mesh(f, old, new)
         call materials(f, old, new)
-        call same_flags(f, 'the supports (BOUNDARY)', pack(old%fixed, .true.), pack(new%fixed, .true.))
-        call same_reals(f, 'the prescribed displacements (BOUNDARY)', pack(old%prescribed, .true.), &
-                  pack(new%prescribed, .true.))
+        call same_flags(f, 'the supports (BOUNDARY)', pack(old%fixed, .true.), &
+                        pack(new%fixed, .true.))
+        call same_reals(f, 'the prescribed displacements (BOUNDARY)', &
+                        pack(old%prescribed, .true.), pack(new%prescribed, .true.))
         call loads(f, old, new)
         call surfaces(f, old, new)
-        call same_int(f, 'the number of stages up to '//to_text(upto), min(upto, size(old%stages)), &
+        call same_int(f, 'the number of stages up to '//to_text(upto), &
+                      min(upto, size(old%stages)), &
                  min(upto, size(new%stages)))
         do i = 1, min(upto, size(old%stages), size(new%stages))
             call stage(f, i, old, new)
@@ -117,10 +119,11 @@ contains
                          size(b%pressures))
                 if (len(f%text) > 0) return
                 do k = 1, size(a%gravity)
-                    call same_int(f, 'a gravity group of load set '//to_text(i), a%gravity(k)%group, &
-                             b%gravity(k)%group)
+                    call same_int(f, 'a gravity group of load set '//to_text(i), &
+                                  a%gravity(k)%group, b%gravity(k)%group)
                     call same_reals(f, 'a gravity load of load set '//to_text(i), &
-                              [a%gravity(k)%ax, a%gravity(k)%ay], [b%gravity(k)%ax, b%gravity(k)%ay])
+                                    [a%gravity(k)%ax, a%gravity(k)%ay], &
+                                    [b%gravity(k)%ax, b%gravity(k)%ay])
                 end do
                 call same_ints(f, 'the pressure faces of load set '//to_text(i), &
                           [a%pressures%element, a%pressures%face], &
@@ -137,7 +140,8 @@ contains
         type(model_t), intent(in) :: old, new
         integer :: i
         if (allocated(old%wet_faces) .and. allocated(new%wet_faces)) then
-            call same_int(f, 'the number of RESERVOIR faces', size(old%wet_faces), size(new%wet_faces))
+            call same_int(f, 'the number of RESERVOIR faces', size(old%wet_faces), &
+                          size(new%wet_faces))
             if (len(f%text) == 0) call same_ints(f, 'the RESERVOIR faces', &
                 [old%wet_faces%element, old%wet_faces%face, old%wet_faces%cover], &
                 [new%wet_faces%element, new%wet_faces%face, new%wet_faces%cover])

@@ -12,7 +12,7 @@ module cfrd_restart
     use cfrd_deck, only: read_deck
     use cfrd_model_compare, only: first_difference
     use cfrd_files, only: base_name
-    use cfrd_h5_io, only: h5_state_t
+    use cfrd_h5_datasets, only: h5_state_t
     use cfrd_h5_read, only: text_attribute, int_attribute, read_text
     use cfrd_h5_state, only: read_stored_stage
     implicit none

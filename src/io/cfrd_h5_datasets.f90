@@ -1,15 +1,15 @@
-!> The HDF5 helpers of the results writers (cfrd_hdf5, cfrd_h5_state): groups, datasets
-!> (filtered when large, in single precision when asked) and attributes, each call checked.
-!> The first failure of a sequence is carried in `h5_state_t`, later calls are skipped, and
-!> the caller turns it into an error naming the object.
-module cfrd_h5_io
-    use hdf5, only: hid_t, hsize_t, h5gcreate_f, h5gclose_f, h5screate_simple_f, &
-                    h5screate_f, h5sclose_f, h5dcreate_f, h5dwrite_f, h5dclose_f, &
-                    h5acreate_f, h5awrite_f, h5aclose_f, h5aopen_f, h5aexists_f, h5tcopy_f, &
+!> The HDF5 writing helpers of the results file (io/cfrd_hdf5): groups, datasets of reals
+!> and integers (large ones chunked through shuffle + deflate, optionally in single
+!> precision), texts and attributes. Every HDF5 status is checked; the first failure is
+!> carried in `h5_state_t`, so that later calls are skipped and the caller reports it.
+module cfrd_h5_datasets
+    use hdf5, only: hid_t, hsize_t, h5gcreate_f, h5gclose_f, h5screate_simple_f, h5screate_f, &
+                    h5sclose_f, h5dcreate_f, h5dwrite_f, h5dclose_f, h5acreate_f, &
+                    h5awrite_f, h5aclose_f, h5aopen_f, h5aexists_f, h5tcopy_f, &
                     h5tset_size_f, h5tclose_f, H5S_SCALAR_F, H5T_NATIVE_DOUBLE, &
                     H5T_NATIVE_INTEGER, H5T_NATIVE_CHARACTER, h5pcreate_f, h5pclose_f, &
-                    h5pset_chunk_f, h5pset_shuffle_f, h5pset_deflate_f, &
-                    H5P_DATASET_CREATE_F, H5T_NATIVE_REAL
+                    h5pset_chunk_f, h5pset_shuffle_f, h5pset_deflate_f, H5P_DATASET_CREATE_F, &
+                    H5T_NATIVE_REAL
     use cfrd_kinds, only: dp
     implicit none
     private
@@ -369,4 +369,4 @@ contains
         if (hdferr < 0) call fail(st, 'attribute '//name)
         call h5aclose_f(attr_id, hdferr)
     end subroutine set_attr_int
-end module cfrd_h5_io
+end module cfrd_h5_datasets
