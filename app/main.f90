@@ -22,6 +22,8 @@ program cfrd_main
     use cfrd_memory, only: tune_allocator
     use cfrd_hdf5, only: results_format_t
     use cfrd_blas_threads, only: set_blas_threads
+    use cfrd_restart, only: restart_t, open_restart, restart_model, restart_stem, &
+                            read_restart_stage, close_restart
     implicit none
 
     type :: options_t
@@ -32,6 +34,10 @@ program cfrd_main
         character(len=:), allocatable :: out_dir
         !> with --check: the folders and results files (.h5) whose result sets to check
         character(len=:), allocatable :: result_paths(:)
+        !> --restart RESULTS.h5 [--from-stage K]: the results file to continue from stage K
+        !> (0: its last completed stage)
+        character(len=:), allocatable :: restart
+        integer :: from_stage = 0
     end type options_t
 
     !> The deck being run and its result files. They live here, not in run_deck, because
@@ -43,6 +49,7 @@ program cfrd_main
         type(error_t), allocatable :: write_error   !! the first failure to write a stage
         type(run_identity_t) :: identity            !! run id, the deck's SHA-256
         type(result_lock_t) :: lock                 !! DECK.lock, held while the run writes
+        type(restart_t) :: source                   !! --restart: the file continued from
     end type current_run_t
 
     type(options_t) :: options
@@ -87,16 +94,28 @@ contains
         integer, intent(out) :: status
         type(results_t) :: results
         type(error_t), allocatable :: error
-        character(len=:), allocatable :: stem, warning
+        character(len=:), allocatable :: stem, warning, who
         integer :: i
+        logical :: restart
 
         status = 0
         call new_run(current)
+        restart = allocated(options%restart)
+        who = path
+        if (restart .and. len(path) == 0) who = options%restart
         associate (model => current%model)
-            call read_deck(path, model, error)
+            if (restart) then
+                ! cfrd --restart: the stored deck (no DECK given: path = '') or DECK
+                call open_restart(options%restart, options%from_stage, current%source, &
+                                  error)
+                if (.not. allocated(error)) call restart_model(current%source, path, model, &
+                                                               error)
+            else
+                call read_deck(path, model, error)
+            end if
             if (.not. allocated(error)) then
                 do i = 1, size(model%warnings)
-                    write (error_unit, '(a)') 'cfrd: warning: '//path//': '// &
+                    write (error_unit, '(a)') 'cfrd: warning: '//who//': '// &
                         trim(model%warnings(i))
                 end do
             end if
@@ -105,27 +124,46 @@ contains
                     ': OK (', model%mesh%nnode, ' nodes, ', model%mesh%nelem, ' elements)'
                 return
             end if
-            if (allocated(options%out_dir)) then
+            if (restart .and. len(path) == 0) then
+                stem = restart_stem(current%source)
+                if (allocated(options%out_dir)) stem = restart_stem(current%source, &
+                                                                    options%out_dir)
+            else if (allocated(options%out_dir)) then
                 stem = result_stem(path, options%out_dir)
             else
                 stem = result_stem(path)
             end if
             ! The run's identity, and the lock on its result set before any file is written
             ! (a second run of the same set is refused here).
-            if (.not. allocated(error)) call new_run_identity(path, current%identity, error)
+            if (allocated(error)) then
+                continue
+            else if (restart .and. len(path) == 0) then
+                call new_run_identity(current%source%deck_path, current%identity, error, &
+                                      current%source%deck_sha256)
+            else
+                call new_run_identity(path, current%identity, error)
+            end if
             if (.not. allocated(error)) then
                 call acquire_lock(current%lock, stem//lock_ending, current%identity, error, &
                                   warning)
-                if (allocated(warning)) write (error_unit, '(a)') 'cfrd: warning: '//path// &
+                if (allocated(warning)) write (error_unit, '(a)') 'cfrd: warning: '//who// &
                     ': '//warning
-                if (allocated(error)) error%message = path//': '//error%message
+                if (allocated(error)) error%message = who//': '//error%message
             end if
             ! Each stage goes to the files when it is done; results keeps the last only.
             if (.not. allocated(error)) call begin_output(current%output, stem, model, &
                                                          current%identity, error, &
                                                          options%legacy_listing, options%format)
             if (.not. allocated(error)) then
-                call run_analysis(model, results, error, stream_stage, last_only=.true.)
+                if (restart) then
+                    call run_analysis(model, results, error, stream_stage, last_only=.true., &
+                                      stored=stored_stage, &
+                                      from_stage=current%source%from_stage)
+                else
+                    call run_analysis(model, results, error, stream_stage, last_only=.true.)
+                end if
+                ! the file continued from is read; it may be replaced now
+                call close_restart(current%source)
                 if (allocated(error)) then
                     ! The analysis failed: keep its completed stages as DECK.incomplete.h5,
                     ! unless writing them failed too.
@@ -135,7 +173,7 @@ contains
                         call report_incomplete(error, stem)
                     end if
                     if (any(error%category == [interrupt_error, terminate_error])) &
-                        error%message = path//': '//error%message//'; '// &
+                        error%message = who//': '//error%message//'; '// &
                                         last_stage_text(model, current%output%completed)
                 else if (allocated(current%write_error)) then
                     call move_alloc(current%write_error, error)
@@ -145,6 +183,7 @@ contains
                                        results%wall_time, error)
                 end if
             end if
+            call close_restart(current%source)
             if (allocated(error)) then
                 write (error_unit, '(a)') 'cfrd: '//error%message
                 status = error_status(error)
@@ -226,21 +265,23 @@ contains
         type(options_t), intent(in) :: options
         character(len=*), intent(in) :: decks(:)
         type(error_t), allocatable, intent(out) :: error
+        character(len=len(decks)), allocatable :: named(:)
+        named = pack(decks, len_trim(decks) > 0)   ! cfrd --restart without a deck: none
         if (allocated(options%out_dir)) then
             if (path_exists(options%out_dir) .and. .not. is_directory(options%out_dir)) then
                 call fatal_error(error, '--out '//options%out_dir//': a file of that name '// &
                                  'exists; --out names the folder for the results', usage_error)
                 return
             end if
-            call check_result_names(decks, error, options%out_dir)
+            call check_result_names(named, error, options%out_dir)
             if (.not. allocated(error) .and. .not. options%check_only) &
-                call check_inputs_kept(decks, error, options%out_dir)
+                call check_inputs_kept(named, error, options%out_dir)
             if (.not. allocated(error) .and. .not. options%check_only) &
                 call make_directories(options%out_dir, error)
         else
-            call check_result_names(decks, error)
+            call check_result_names(named, error)
             if (.not. allocated(error) .and. .not. options%check_only) &
-                call check_inputs_kept(decks, error)
+                call check_inputs_kept(named, error)
         end if
     end subroutine check_outputs
 
@@ -249,10 +290,16 @@ contains
         integer, intent(in) :: number, total
         type(stage_result_t), intent(in) :: stage
         type(error_t), allocatable :: error
-        if (.not. allocated(current%write_error)) then
+        if (allocated(current%write_error)) then
+            continue
+        else if (copies_stage(number)) then
+            ! cfrd --restart: a stored stage, stored as this run stores it: copied
+            call add_stage(current%output, current%model, number, stage, error, &
+                           current%source%file_id)
+        else
             call add_stage(current%output, current%model, number, stage, error)
-            if (allocated(error)) call move_alloc(error, current%write_error)
         end if
+        if (allocated(error)) call move_alloc(error, current%write_error)
         if (options%quiet) return
         write (output_unit, '(a,i0,a,i0,2a,i0,a,i0,a,i0,a,i0,a,es9.2,a,f8.3,a)') '  stage ', &
             number, '/', total, ': ', stage%name//', ', stage%increments, ' increments, ', &
@@ -261,6 +308,27 @@ contains
             ' s'
         flush (output_unit)
     end subroutine stream_stage
+
+    !> cfrd --restart: whether stage `number` is a stored one stored as this run stores
+    !> its values (then its HDF5 group is copied).
+    logical function copies_stage(number)
+        integer, intent(in) :: number
+        copies_stage = number <= current%source%from_stage .and. &
+                       current%source%deflate == options%format%deflate .and. &
+                       (current%source%single .eqv. options%format%single)
+    end function copies_stage
+
+    !> cfrd --restart: stage `number` as the results file continued from stored it.
+    !> `light` stays true for a stage whose HDF5 group is copied (copies_stage) when no
+    !> legacy listing needs its full results.
+    subroutine stored_stage(number, stage, light, error)
+        integer, intent(in) :: number
+        type(stage_result_t), intent(out) :: stage
+        logical, intent(inout) :: light
+        type(error_t), allocatable, intent(out) :: error
+        light = light .and. copies_stage(number) .and. .not. options%legacy_listing
+        call read_restart_stage(current%source, number, stage, light, error)
+    end subroutine stored_stage
 
     subroutine parse_command_line(options, decks, error)
         type(options_t), intent(out) :: options
@@ -313,6 +381,30 @@ contains
                     end if
                     options%format%deflate = level
                 end block
+            case ('--restart', '--from-stage')
+                if (i == n) then
+                    call fatal_error(error, 'option '//trim(arg)//' needs a value', &
+                                     usage_error)
+                    return
+                end if
+                block
+                    character(len=4096) :: value
+                    integer :: stat
+                    call get_command_argument(i + 1, value, length)
+                    if (trim(arg) == '--restart') then
+                        options%restart = trim(value)
+                    else
+                        read (value, *, iostat=stat) options%from_stage
+                        if (stat /= 0 .or. options%from_stage < 1 .or. &
+                            verify(trim(value), '0123456789') /= 0) then
+                            call fatal_error(error, 'option --from-stage needs a stage '// &
+                                             'number (1, 2, ...), not '''//trim(value)// &
+                                             '''', usage_error)
+                            return
+                        end if
+                    end if
+                end block
+                i = i + 1
             case ('-o', '--out')
                 if (i == n) then
                     call fatal_error(error, 'option '//trim(arg)//' needs a directory', &
@@ -357,6 +449,21 @@ contains
             end if
         end do
         decks = decks(1:ndeck)
+        if (options%from_stage > 0 .and. .not. allocated(options%restart)) then
+            call fatal_error(error, 'option --from-stage goes with --restart', usage_error)
+            return
+        end if
+        if (allocated(options%restart)) then
+            ! cfrd --restart RESULTS.h5 [--from-stage K] [DECK]: one deck at most; none
+            ! continues the deck stored in RESULTS.h5 (its name '')
+            if (size(decks) > 1 .or. options%check_only) then
+                call fatal_error(error, 'option --restart takes at most one deck, and '// &
+                                 'no --check', usage_error)
+                return
+            end if
+            if (size(decks) == 0) decks = [character(len=4096) :: '']
+            return
+        end if
         if (size(decks) + size(options%result_paths) == 0) then
             call fatal_error(error, 'no deck given', usage_error)
             return
@@ -386,6 +493,7 @@ contains
         write (output_unit, '(a)') &
             'Usage: cfrd [options] DECK [DECK ...]', &
             '       cfrd --check DIR|RESULTS.h5 [...]', &
+            '       cfrd [options] --restart RESULTS.h5 [--from-stage K] [DECK]', &
             '', &
             'Runs each card deck (docs/cards.md) and writes DECK.out (listing), DECK.h5', &
             '(results, docs/results.md) and DECK.xmf (for ParaView) beside it, or in', &
@@ -402,6 +510,13 @@ contains
             '                results file (.h5), say whether each result set in it is', &
             '                whole (same run id, its deck unchanged): exit 0 when all', &
             '                are, 1 when one is not', &
+            '  --restart RESULTS.h5', &
+            '                continue from a stage of a results file (DECK.h5 or', &
+            '                DECK.incomplete.h5): without DECK its stored deck, into its', &
+            '                result set; with DECK that deck''s later stages, once it is', &
+            '                found to be the stored deck up to that stage (exit 2 naming', &
+            '                the first difference otherwise)', &
+            '  --from-stage K  the stage to continue from (default: the last completed)', &
             '  --out DIR     write results into DIR (created if missing); two decks of', &
             '                the same name are refused (exit 2)', &
             '  --quiet       print nothing but errors', &

@@ -146,6 +146,9 @@ tool_checks "stop" python3 tools/check_stop.py --cfrd "$cfrd" --workdir "$work/s
 # Result sets (issue 24): no deck written over, one run per set at a time (DECK.lock), one
 # run id in every file, all files replaced together, cfrd --check.
 tool_checks "result sets" tools/result_set_test.sh "$cfrd" "$work/sets"
+# Restart from a completed stage (issue 24, part 3): the same results as the run without a
+# stop, to the last bit, after every stage kind of the x1 Tianshengqiao-I decks; refusals.
+tool_checks "restart" python3 tools/check_restart.py --cfrd "$cfrd" --workdir "$work/restart"
 # The independent peer: CalculiX checked on a closed form, then on the same embankment.
 # The shared layer of the tools (tools/cfrdtools): deck fields, results reading, the runner.
 tool_checks "cfrdtools" env PYTHONPATH=tools python3 -m cfrdtools.selftest

@@ -54,8 +54,9 @@ contains
                 t0 = wall_seconds()
                 call assemble_tangent(model, library, state%active, system%pattern, stress, &
                                       state%strain, state%history, system%values, tangents)
-                if (.not. allocated(system%k_values)) system%contact_scale = &
-                    multiplier_scale(system, contact)
+                if (.not. (allocated(system%k_values) .or. system%scale_given)) &
+                    system%contact_scale = multiplier_scale(system, contact)
+                system%scale_given = .false.
                 system%k_values = system%values
                 result%stats%t_assembly = result%stats%t_assembly + (wall_seconds() - t0)
             end if

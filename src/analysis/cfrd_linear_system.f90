@@ -35,6 +35,9 @@ module cfrd_linear_system
         !> and the scale of the multipliers (a stiffness per length, docs/theory.md s. 14)
         real(dp), allocatable :: k_values(:)
         real(dp) :: contact_scale = 1.0_dp
+        !> contact_scale is given (a restart: the scale of the system the stored run had in
+        !> use), not to be computed at the first assembly of this system
+        logical :: scale_given = .false.
         !> (2, ncontact) the normal / tangential constraint of a slave node moves some free
         !> dof (else every dof it ties is prescribed: the constraint is left out)
         logical, allocatable :: constrains(:, :)
@@ -108,6 +111,7 @@ contains
         allocate (system%values(system%pattern%nnz), source=0.0_dp)
         system%factorised_linear = .false.
         system%analysed = .false.
+        system%scale_given = .false.
     end subroutine new_system
 
     !> The multiplier scale: the largest diagonal entry of K over the largest slave node

@@ -7,7 +7,7 @@ module cfrd_stage_driver
     use cfrd_error, only: error_t
     use cfrd_clock, only: wall_seconds
     use cfrd_strings, only: to_text, fixed_text, level_text
-    use cfrd_model, only: model_t, stage_fill, stage_load, stage_reset, stage_water, &
+    use cfrd_model, only: model_t, stage_t, stage_fill, stage_load, stage_reset, stage_water, &
                           stage_wait, stage_wet, no_date, has_creep, has_wetting, &
                           newtop_zero, dry_level
     use cfrd_results, only: results_t, stage_result_t
@@ -27,12 +27,11 @@ module cfrd_stage_driver
     use cfrd_linear_system, only: system_t, new_system
     use cfrd_stage_state, only: state_t, ngauss
     use cfrd_increment, only: solve_increment
+    use cfrd_restart_carry, only: carry_of, restore_state
     implicit none
     private
 
-    public :: run_analysis, progress_interface
-
-
+    public :: run_analysis, progress_interface, stored_interface
 
     !> Called after each stage, e.g. to print a progress line.
     abstract interface
@@ -41,6 +40,19 @@ module cfrd_stage_driver
             integer, intent(in) :: number, total
             type(stage_result_t), intent(in) :: stage
         end subroutine progress_interface
+
+        !> Gives stage `number` of a results file as stored: its fields, carry and
+        !> figures (a restart, cfrd --restart). `light` (asked for the stages before the
+        !> last stored one): only what a stage's summary and CSV rows need may be given
+        !> (displacements, stresses, strains, the contact state, near_failure); the callee
+        !> sets it false when it gives, and needs, everything.
+        subroutine stored_interface(number, stage, light, error)
+            import :: stage_result_t, error_t
+            integer, intent(in) :: number
+            type(stage_result_t), intent(out) :: stage
+            logical, intent(inout) :: light
+            type(error_t), allocatable, intent(out) :: error
+        end subroutine stored_interface
     end interface
 
 contains
@@ -48,17 +60,22 @@ contains
     !> Run every stage of the model. With `last_only`, results%stages holds the last stage
     !> only (each stage is handed to `progress`, which may write it away), so that memory
     !> does not grow with the number of stages.
-    subroutine run_analysis(model, results, error, progress, last_only)
+    !> A restart (`stored` and `from_stage` K given): stages 1 .. K are not solved but read
+    !> back through `stored`, their results recorded again from the stored state and handed
+    !> to `progress` as computed ones; stage K+1 starts from the state stage K stored.
+    subroutine run_analysis(model, results, error, progress, last_only, stored, from_stage)
         type(model_t), intent(in) :: model
         type(results_t), intent(out) :: results
         type(error_t), allocatable, intent(out) :: error
         procedure(progress_interface), optional :: progress
         logical, intent(in), optional :: last_only
+        procedure(stored_interface), optional :: stored
+        integer, intent(in), optional :: from_stage
         type(element_box_t), allocatable :: library(:)
         type(state_t) :: state
         type(system_t) :: system
         real(dp) :: t_start
-        integer :: s, k
+        integer :: s, k, restart
         logical :: keep_all
 
         t_start = wall_seconds()
@@ -72,14 +89,54 @@ contains
             if (state%has_contact) call new_contact(model, state%contact)
         end if
         allocate (results%stages(merge(size(model%stages), 1, keep_all)))
+        restart = 0
+        if (present(stored) .and. present(from_stage)) restart = from_stage
         do s = 1, size(model%stages)
             k = merge(s, 1, keep_all)
-            call run_stage(model, library, s, state, system, results%stages(k), error)
+            if (s <= restart) then
+                call stored_stage(s, results%stages(k), error)
+            else
+                call run_stage(model, library, s, state, system, results%stages(k), error)
+            end if
             if (allocated(error)) return
             if (present(progress)) call progress(s, size(model%stages), results%stages(k))
         end do
         results%wall_time = wall_seconds() - t_start
+    contains
+        !> Stage `number` as stored, its state the state reached; after the last stored
+        !> stage, the linear system of its active set with the stored multiplier scale.
+        subroutine stored_stage(number, result, error)
+            integer, intent(in) :: number
+            type(stage_result_t), intent(inout) :: result
+            type(error_t), allocatable, intent(out) :: error
+            logical :: light
+            light = number < restart
+            call stored(number, result, light, error)
+            if (allocated(error)) return
+            call restore_state(result, state)
+            call record(model, library, state, result, light)
+            call stage_labels(model%stages(number), state, result)
+            if (number < restart .or. number == size(model%stages)) return
+            call new_system(model, library, state%active, system, error, state%contact, &
+                            state%has_contact)
+            if (allocated(error)) return
+            system%contact_scale = result%carry%contact_scale
+            system%scale_given = .true.
+        end subroutine stored_stage
     end subroutine run_analysis
+
+    !> A stage result's label, kind, date, reservoir level and day.
+    subroutine stage_labels(stage, state, result)
+        type(stage_t), intent(in) :: stage
+        type(state_t), intent(in) :: state
+        type(stage_result_t), intent(inout) :: result
+        result%name = stage%label
+        result%kind = stage%kind
+        result%date = ''
+        if (allocated(stage%date)) result%date = stage%date
+        result%water_level = state%level
+        result%day = state%day
+    end subroutine stage_labels
 
     !> Elements of groups that some FILL stage places start inactive; all others are active
     !> from the start (the foundation, or every element of a deck without FILL stages).
@@ -131,8 +188,6 @@ contains
 
         t0 = wall_seconds()
         associate (stage => model%stages(s), mesh => model%mesh)
-            result%name = stage%label
-            result%kind = stage%kind
             allocate (stage_force(2, mesh%nnode), du_prescribed(2, mesh%nnode), source=0.0_dp)
             was_used = active_nodes(model, state%active)
             nodes_before = count(was_used)
@@ -231,10 +286,8 @@ contains
                 end if
             end if
             call record(model, library, state, result)
-            result%date = ''
-            if (allocated(stage%date)) result%date = stage%date
-            result%water_level = state%level
-            result%day = state%day
+            call stage_labels(stage, state, result)
+            result%carry = carry_of(state, system%contact_scale)
             result%wall_time = wall_seconds() - t0
         end associate
     contains
@@ -366,34 +419,21 @@ contains
     end subroutine run_increments
 
     !> The stage's results: displacements, stresses, principal stresses, reactions.
-    subroutine record(model, library, state, result)
+    !> `light`: a stored stage's summary and CSV rows only (stress levels, reactions and the
+    !> Gauss-point fields are left out).
+    subroutine record(model, library, state, result, light)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(in) :: state
         type(stage_result_t), intent(inout) :: result
+        logical, intent(in), optional :: light
         real(dp), allocatable :: f_int(:, :)
         logical, allocatable :: used(:)
         integer :: e, ig, ng
         associate (mesh => model%mesh)
             result%active = state%active
-            allocate (result%stress_level(mesh%nelem), source=0.0_dp)
-            do e = 1, mesh%nelem
-                if (.not. state%active(e)) cycle
-                do ig = 1, library(mesh%kind(e))%element%gauss_points()
-                    result%stress_level(e) = max(result%stress_level(e), stress_level( &
-                        model%materials(mesh%material(e)), model%pa, state%stress(:, ig, e), &
-                        state%history(:, ig, e)))
-                end do
-            end do
-            ! Near failure: stress level 0.95 or more (the law caps it at 0.99).
-            result%near_failure = count(result%stress_level >= 0.95_dp)
             result%displacement = state%u
             result%displacement_total = state%u_before_reset + state%u
-            result%stress_gauss = state%stress
-            result%strain_gauss = state%strain
-            result%history_gauss = state%history
-            if (allocated(state%creep)) result%creep_gauss = state%creep
-            if (allocated(state%wet)) result%wetting_gauss = state%wet
             if (allocated(model%interfaces)) then
                 call interface_stations(model, state%stress, state%strain, state%active, &
                                         result%interface)
@@ -402,6 +442,8 @@ contains
             end if
             if (allocated(model%slab_groups)) &
                 call slab_stresses(model, state%stress, state%active, result%slab)
+            if (state%has_contact) call record_contact(model, state%contact, state%active, &
+                                                       result%contact, result%openings)
             allocate (result%stress_centroid(4, mesh%nelem), result%principal(3, mesh%nelem))
             do e = 1, mesh%nelem
                 ng = library(mesh%kind(e))%element%gauss_points()
@@ -420,6 +462,25 @@ contains
                                        result%singular_radius)
                 end if
             end if
+            if (present(light)) then
+                if (light) return
+            end if
+            allocate (result%stress_level(mesh%nelem), source=0.0_dp)
+            do e = 1, mesh%nelem
+                if (.not. state%active(e)) cycle
+                do ig = 1, library(mesh%kind(e))%element%gauss_points()
+                    result%stress_level(e) = max(result%stress_level(e), stress_level( &
+                        model%materials(mesh%material(e)), model%pa, state%stress(:, ig, e), &
+                        state%history(:, ig, e)))
+                end do
+            end do
+            ! Near failure: stress level 0.95 or more (the law caps it at 0.99).
+            result%near_failure = count(result%stress_level >= 0.95_dp)
+            result%stress_gauss = state%stress
+            result%strain_gauss = state%strain
+            result%history_gauss = state%history
+            if (allocated(state%creep)) result%creep_gauss = state%creep
+            if (allocated(state%wet)) result%wetting_gauss = state%wet
             allocate (f_int(2, mesh%nnode))
             call internal_forces(model, library, state%active, state%stress, f_int)
             if (state%has_contact) then
@@ -430,8 +491,6 @@ contains
                     call contact_forces(state%contact, f_contact)
                     f_int = f_int - f_contact
                 end block
-                call record_contact(model, state%contact, state%active, result%contact, &
-                                    result%openings)
             end if
             used = active_nodes(model, state%active)
             result%reaction = merge(f_int - state%f_ext, 0.0_dp, &

@@ -89,36 +89,26 @@ module cfrd_cards
 contains
 
     !> Read a whole file; split it into lines (LF or CRLF). An unreadable file is an error.
-    subroutine read_deck_lines(path, deck, error)
+    subroutine read_deck_lines(path, deck, error, text)
         character(len=*), intent(in) :: path
         type(deck_lines_t), intent(out) :: deck
         type(error_t), allocatable, intent(out) :: error
+        !> the deck's text, read from elsewhere (a results file's /input/deck): `path` only
+        !> names it
+        character(len=*), intent(in), optional :: text
         character(len=:), allocatable :: raw
         integer :: unit, stat, size_bytes, i, n, start, k, first_byte
         logical :: exists
         character(len=256) :: msg
 
         deck%file = path
-        inquire (file=path, exist=exists, size=size_bytes)
-        if (.not. exists) then
-            call fatal_error(error, path//': no such deck file', input_error)
-            return
+        if (present(text)) then
+            raw = text
+        else
+            call read_file_bytes(error)
+            if (allocated(error)) return
         end if
-        allocate (character(len=max(size_bytes, 0)) :: raw)
-        if (size_bytes > 0) then
-            open (newunit=unit, file=path, access='stream', form='unformatted', &
-                  status='old', action='read', iostat=stat, iomsg=msg)
-            if (stat /= 0) then
-                call fatal_error(error, path//': cannot open the deck: '//trim(msg), input_error)
-                return
-            end if
-            read (unit, iostat=stat, iomsg=msg) raw
-            close (unit)
-            if (stat /= 0) then
-                call fatal_error(error, path//': cannot read the deck: '//trim(msg), input_error)
-                return
-            end if
-        end if
+
         ! Drop a UTF-8 byte-order mark (editors on Windows save one) and carriage returns
         ! (CRLF files), and count lines.
         allocate (character(len=len(raw)) :: deck%text)
@@ -154,6 +144,32 @@ contains
             deck%first(n) = start
             deck%last(n) = k
         end if
+    contains
+        subroutine read_file_bytes(error)
+            type(error_t), allocatable, intent(out) :: error
+            inquire (file=path, exist=exists, size=size_bytes)
+            if (.not. exists) then
+                call fatal_error(error, path//': no such deck file', input_error)
+                return
+            end if
+            allocate (character(len=max(size_bytes, 0)) :: raw)
+            if (size_bytes > 0) then
+                open (newunit=unit, file=path, access='stream', form='unformatted', &
+                      status='old', action='read', iostat=stat, iomsg=msg)
+                if (stat /= 0) then
+                    call fatal_error(error, path//': cannot open the deck: '//trim(msg), &
+                                     input_error)
+                    return
+                end if
+                read (unit, iostat=stat, iomsg=msg) raw
+                close (unit)
+                if (stat /= 0) then
+                    call fatal_error(error, path//': cannot read the deck: '//trim(msg), &
+                                     input_error)
+                    return
+                end if
+            end if
+        end subroutine read_file_bytes
     end subroutine read_deck_lines
 
     !> Comment cards: '*' in column 1, 'C' alone or followed by a blank; blank lines too.

@@ -37,11 +37,13 @@ module cfrd_deck
 
 contains
 
-    !> Read and validate the deck at `path` into `model`.
-    subroutine read_deck(path, model, error)
+    !> Read and validate the deck at `path` into `model`; with `text`, the deck is that
+    !> text (a results file's /input/deck, cfrd --restart) and `path` names it in messages.
+    subroutine read_deck(path, model, error, text)
         character(len=*), intent(in) :: path
         type(model_t), intent(out) :: model
         type(error_t), allocatable, intent(out) :: error
+        character(len=*), intent(in), optional :: text
         type(deck_lines_t) :: lines
         type(group_cards_t) :: groups(ngroups)
         type(group_cards_t), allocatable :: load_groups(:)
@@ -49,7 +51,7 @@ contains
         integer, allocatable :: node_line(:), element_line(:)
         integer :: i
 
-        call read_deck_lines(path, lines, error)
+        call read_deck_lines(path, lines, error, text)
         if (allocated(error)) return
         allocate (model%warnings(0))
         model%deck_file = path

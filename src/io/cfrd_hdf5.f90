@@ -10,14 +10,8 @@
 !> error naming the object; close_results_h5 closes every handle whatever failed.
 module cfrd_hdf5
     use, intrinsic :: iso_fortran_env, only: compiler_version
-    use hdf5, only: hid_t, hsize_t, h5open_f, h5close_f, h5fcreate_f, h5fclose_f, &
-                    h5fflush_f, h5gcreate_f, h5gclose_f, h5screate_simple_f, h5screate_f, &
-                    h5sclose_f, h5dcreate_f, h5dwrite_f, h5dclose_f, h5acreate_f, &
-                    h5awrite_f, h5aclose_f, h5aopen_f, h5aexists_f, h5tcopy_f, &
-                    h5tset_size_f, h5tclose_f, h5eset_auto_f, H5F_ACC_TRUNC_F, &
-                    H5F_SCOPE_GLOBAL_F, H5S_SCALAR_F, H5T_NATIVE_DOUBLE, H5T_NATIVE_INTEGER, &
-                    H5T_NATIVE_CHARACTER, h5pcreate_f, h5pclose_f, h5pset_chunk_f, &
-                    h5pset_shuffle_f, h5pset_deflate_f, H5P_DATASET_CREATE_F, H5T_NATIVE_REAL
+    use hdf5, only: hid_t, h5open_f, h5close_f, h5fcreate_f, h5fclose_f, h5fflush_f, &
+                    h5gclose_f, h5eset_auto_f, H5F_ACC_TRUNC_F, H5F_SCOPE_GLOBAL_F
     use cfrd_kinds, only: dp
     use cfrd_h5_datasets, only: h5_state_t, fail, open_group, close_group, dataset_real1, &
                                 dataset_real2, dataset_real3, dataset_int1, dataset_int2, &
@@ -32,6 +26,7 @@ module cfrd_hdf5
     use cfrd_interface_io, only: has_interfaces, has_slab, has_contact
     use cfrd_effects, only: effects_text
     use cfrd_run_identity, only: run_identity_t
+    use cfrd_h5_state, only: write_stage_state
     implicit none
     private
 
@@ -40,8 +35,9 @@ module cfrd_hdf5
     public :: write_results_h5, layout_version
 
     !> Version of the layout of docs/results.md (2: streamed, `complete`, history, XDMF
-    !> helpers, zones; 3: result sets: `run_id`, `deck_sha256`, `deck_path`, `set_files`).
-    integer, parameter :: layout_version = 3
+    !> helpers, zones; 3: result sets: `run_id`, `deck_sha256`, `deck_path`, `set_files`;
+    !> 4: each stage's restart state, group `state`).
+    integer, parameter :: layout_version = 4
 
     !> How the values are stored (cfrd --compress, --float32; docs/results.md).
     type :: results_format_t
@@ -284,6 +280,8 @@ contains
                                '(compression positive; zero where nothing was wetted)', st)
         call write_interface_stage(stage_id, file, stage, st)
         call write_pjoint_h5(stage_id, stage, st)
+        ! what a restart from this stage needs (docs/results.md, "Restart")
+        if (allocated(stage%carry%f_ext)) call write_stage_state(stage_id, stage, st)
         call open_group(stage_id, 'solver', solver_id, st)
         call attr_int(solver_id, 'neq', stage%stats%neq, st)
         call attr_int(solver_id, 'nnz', stage%stats%nnz, st)

@@ -33,17 +33,24 @@ module cfrd_run_identity
 contains
 
     !> A new run of the deck at `deck`: a fresh run id, the deck's SHA-256, this process.
-    subroutine new_run_identity(deck, identity, error)
+    !> `known`: the deck's SHA-256 as a results file recorded it (a restart of the stored
+    !> deck, cfrd --restart), not computed.
+    subroutine new_run_identity(deck, identity, error, known)
         character(len=*), intent(in) :: deck
         type(run_identity_t), intent(out) :: identity
         type(error_t), allocatable, intent(out) :: error
+        character(len=*), intent(in), optional :: known
         character(len=64) :: digest
         character(len=8) :: date
         character(len=10) :: time
-        call file_sha256(deck, digest, error)
-        if (allocated(error)) then
-            error%category = input_error
-            return
+        if (present(known)) then
+            digest = known
+        else
+            call file_sha256(deck, digest, error)
+            if (allocated(error)) then
+                error%category = input_error
+                return
+            end if
         end if
         call date_and_time(date, time)
         identity%run_id = date//'T'//time(1:6)//'-'//random_hex(16)

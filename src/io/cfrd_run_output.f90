@@ -13,6 +13,7 @@
 !> list of decks two of which would write the same files; check_inputs_kept one whose
 !> result files would be one of the decks.
 module cfrd_run_output
+    use hdf5, only: hid_t
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, usage_error, io_error
     use cfrd_clock, only: wall_seconds
@@ -22,6 +23,7 @@ module cfrd_run_output
     use cfrd_hdf5, only: results_file_t, results_format_t, open_results_h5, write_stage_h5, &
                          close_results_h5
     use cfrd_xdmf, only: write_xdmf
+    use cfrd_h5_state, only: copy_stage
     use cfrd_listing, only: write_listing, write_gauge_csv
     use cfrd_interface_io, only: interface_csv_t, open_interface_csv, append_interface_csv, &
                                  close_interface_csv, write_openings_csv, has_interfaces, &
@@ -204,13 +206,22 @@ contains
     end subroutine begin_output
 
     !> Stage `number` is done: write it to the HDF5 and CSV files, keep its summary.
-    subroutine add_stage(out, model, number, stage, error)
+    !> `copy_from`: the stage is the stage of that open results file, which stores its
+    !> values as this one does (cfrd --restart): its HDF5 group is copied, not written.
+    subroutine add_stage(out, model, number, stage, error, copy_from)
         type(run_output_t), intent(inout) :: out
         type(model_t), intent(in) :: model
         integer, intent(in) :: number
         type(stage_result_t), intent(in) :: stage
         type(error_t), allocatable, intent(out) :: error
-        call write_stage_h5(out%h5, number, stage, error)
+        integer(hid_t), intent(in), optional :: copy_from
+        if (present(copy_from)) then
+            call copy_stage(copy_from, out%h5%file_id, out%h5%stages_id, out%h5%path, &
+                            number, error)
+            if (.not. allocated(error)) out%h5%stages_written = number
+        else
+            call write_stage_h5(out%h5, number, stage, error)
+        end if
         if (allocated(error)) return
         call append_interface_csv(out%csv, model, number, stage, error)
         if (allocated(error)) return

@@ -7,10 +7,9 @@
 !> when nothing is missing, mixed or changed; files a cfrd run id does not mark are left
 !> alone, except those of the set's names.
 module cfrd_set_check
-    use hdf5, only: hid_t, size_t, hsize_t, h5open_f, h5close_f, h5fopen_f, h5fclose_f, &
-                    h5aexists_f, h5aopen_f, h5aread_f, h5aclose_f, h5aget_type_f, &
-                    h5tget_size_f, h5tclose_f, h5tcopy_f, h5tset_size_f, h5eset_auto_f, &
-                    H5F_ACC_RDONLY_F, H5T_NATIVE_INTEGER, H5T_NATIVE_CHARACTER
+    use hdf5, only: hid_t, h5open_f, h5close_f, h5fopen_f, h5fclose_f, h5eset_auto_f, &
+                    H5F_ACC_RDONLY_F
+    use cfrd_h5_read, only: text_attribute, int_attribute
     use cfrd_error, only: error_t, fatal_error, usage_error
     use cfrd_strings, only: to_text
     use cfrd_sha256, only: file_sha256
@@ -304,56 +303,6 @@ contains
         end if
         call h5fclose_f(file_id, hdferr)
     end subroutine read_record
-
-    !> A string attribute of the root ('' when absent), trailing blanks removed.
-    function text_attribute(file_id, name) result(text)
-        integer(hid_t), intent(in) :: file_id
-        character(len=*), intent(in) :: name
-        character(len=:), allocatable :: text
-        integer(hid_t) :: attr_id, file_type, memory_type
-        integer(size_t) :: width
-        logical :: exists
-        integer :: hdferr
-        text = ''
-        call h5aexists_f(file_id, name, exists, hdferr)
-        if (hdferr < 0 .or. .not. exists) return
-        call h5aopen_f(file_id, name, attr_id, hdferr)
-        if (hdferr < 0) return
-        call h5aget_type_f(attr_id, file_type, hdferr)
-        call h5tget_size_f(file_type, width, hdferr)
-        call h5tclose_f(file_type, hdferr)
-        if (hdferr >= 0 .and. width > 0) then
-            deallocate (text)
-            allocate (character(len=int(width)) :: text)
-            call h5tcopy_f(H5T_NATIVE_CHARACTER, memory_type, hdferr)
-            call h5tset_size_f(memory_type, width, hdferr)
-            call h5aread_f(attr_id, memory_type, text, [1_hsize_t], hdferr)
-            call h5tclose_f(memory_type, hdferr)
-            if (hdferr < 0) then
-                text = ''
-            else
-                text = trim(text)
-            end if
-        end if
-        call h5aclose_f(attr_id, hdferr)
-    end function text_attribute
-
-    !> An integer attribute of the root (-1 when absent).
-    integer function int_attribute(file_id, name) result(value)
-        integer(hid_t), intent(in) :: file_id
-        character(len=*), intent(in) :: name
-        integer(hid_t) :: attr_id
-        logical :: exists
-        integer :: hdferr, buffer(1)
-        value = -1
-        call h5aexists_f(file_id, name, exists, hdferr)
-        if (hdferr < 0 .or. .not. exists) return
-        call h5aopen_f(file_id, name, attr_id, hdferr)
-        if (hdferr < 0) return
-        call h5aread_f(attr_id, H5T_NATIVE_INTEGER, buffer, [1_hsize_t], hdferr)
-        if (hdferr >= 0) value = buffer(1)
-        call h5aclose_f(attr_id, hdferr)
-    end function int_attribute
 
     !> 'run ID', or 'no run id' for a file that has none.
     function run_text(run_id) result(text)

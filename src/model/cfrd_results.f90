@@ -7,7 +7,7 @@ module cfrd_results
 
     public :: stage_result_t, results_t, solver_stats_t
     public :: interface_result_t, opening_t, slab_result_t, contact_result_t, body_extremes_t
-    public :: pjoint_result_t
+    public :: pjoint_result_t, carry_t
 
     !> Figures of the linear solves, for the listing and the benchmark.
     type :: solver_stats_t
@@ -143,6 +143,32 @@ module cfrd_results
         real(dp), allocatable :: shear(:)                !! (npjoint) m, out of plane
         real(dp), allocatable :: sigma_n(:), tau(:)      !! (npjoint) kPa, tension +
     end type pjoint_result_t
+    !> What the next stage needs of a stage's end beyond the stage's own fields (its
+    !> displacement, Gauss-point stresses, strains, history, creep and wetting strains,
+    !> active elements, water level and date): stored with the stage so that a run can
+    !> restart from it (docs/results.md, "Restart"). The contact arrays are those of the
+    !> contact state (cfrd_contact's contact_t), allocated only for decks with CONTACT pairs.
+    type :: carry_t
+        real(dp), allocatable :: u_before_reset(:, :)  !! (2, nnode) m, sum of u at the RESETs
+        real(dp), allocatable :: f_ext(:, :)           !! (2, nnode) kN/m, applied so far
+        logical :: prescribed_done = .false.           !! BOUNDARY values applied
+        logical, allocatable :: wetted(:)              !! (nelem) wetted so far (WETTING decks)
+        !> the contact multipliers' scale of the linear system in use (docs/theory.md s. 14)
+        real(dp) :: contact_scale = 1.0_dp
+        integer :: searches = 0
+        logical, allocatable :: placed(:), supported(:)           !! (nc)
+        logical, allocatable :: seg_searched(:), mseg_searched(:) !! (segments)
+        integer, allocatable :: status(:), slip_sign(:)           !! (nc)
+        integer, allocatable :: birth(:)                          !! (nnode)
+        integer, allocatable :: cpl_ptr(:), cpl_node(:)           !! couplings
+        real(dp), allocatable :: p(:), q(:), g0(:), gap(:), slip(:), w(:), wref(:), g(:)
+        real(dp), allocatable :: g_curve(:), cpl_a(:)
+        real(dp), allocatable :: u(:, :), normal(:, :), tangent(:, :)
+        !> friction per master segment (a slave much finer than its master): the groups
+        integer :: ngroup = 0
+        integer, allocatable :: tgroup(:), grp_ptr(:), grp_node(:)
+        real(dp), allocatable :: beta(:)
+    end type carry_t
 
     !> The state at the end of one stage.
     type :: stage_result_t
@@ -197,6 +223,7 @@ module cfrd_results
         real(dp) :: applied_load(2) = 0.0_dp          !! sum of applied forces, kN/m
         real(dp) :: reaction_sum(2) = 0.0_dp          !! sum of reactions, kN/m
         type(solver_stats_t) :: stats
+        type(carry_t) :: carry                        !! the rest of the state, for a restart
     end type stage_result_t
 
     !> All stages of a run.
