@@ -7,7 +7,8 @@
  * best of N (default 5), on that same matrix:
  *   - UMFPACK as cfrd calls it (symmetric strategy, AMD ordering, row scaling by the sum of
  *     magnitudes unless --no-scale, as cfrd's contact systems): the numeric factorisation
- *     (umfpack_di_numeric with one kept symbolic analysis) and one solve;
+ *     (umfpack_di_numeric with one kept symbolic analysis) and one solve; then the same with
+ *     UMFPACK's METIS ordering (a measurement only: cfrd orders by AMD);
  *   - CHOLMOD supernodal LL^T of the upper triangle (the matrix is checked symmetric first)
  *     with each of the AMD, METIS and NESDIS orderings: cholmod_factorize with one kept
  *     analysis, and one solve.
@@ -99,7 +100,8 @@ static double asymmetry(cholmod_sparse *a, cholmod_common *c)
     return pattern_differs ? INFINITY : dmax / amax;
 }
 
-static void umfpack_times(cholmod_sparse *a, int scale, int repeat, const double *b)
+static void umfpack_times(cholmod_sparse *a, int scale, int ordering, const char *name,
+                          int repeat, const double *b)
 {
     int n = (int)a->nrow, *ap = a->p, *ai = a->i;
     double *ax = a->x, control[UMFPACK_CONTROL], info[UMFPACK_INFO];
@@ -111,11 +113,11 @@ static void umfpack_times(cholmod_sparse *a, int scale, int repeat, const double
     umfpack_di_defaults(control);
     control[UMFPACK_PRL] = 0;
     control[UMFPACK_STRATEGY] = UMFPACK_STRATEGY_SYMMETRIC;
-    control[UMFPACK_ORDERING] = UMFPACK_ORDERING_AMD;
+    control[UMFPACK_ORDERING] = ordering;
     control[UMFPACK_SCALE] = scale ? UMFPACK_SCALE_SUM : UMFPACK_SCALE_NONE;
     t0 = now();
     status = umfpack_di_symbolic(n, n, ap, ai, ax, &symbolic, control, info);
-    printf("UMFPACK  symmetric strategy, AMD, scale %s: symbolic %.3f s\n",
+    printf("UMFPACK  symmetric strategy, %s, scale %s: symbolic %.3f s\n", name,
            scale ? "sum" : "none", now() - t0);
     if (status != UMFPACK_OK) { printf("  symbolic failed: status %d\n", status); return; }
     for (int k = 0; k < repeat; k++) {
@@ -219,7 +221,10 @@ int main(int argc, char **argv)
     double t0 = now();
     cholmod_sparse *a = cholmod_read_sparse(f, c);
     fclose(f);
-    if (a == NULL) { fprintf(stderr, "factor_floor: %s is no Matrix Market matrix\n", path); return 2; }
+    if (a == NULL) {
+        fprintf(stderr, "factor_floor: %s is no Matrix Market matrix\n", path);
+        return 2;
+    }
     /* a "general" file is read unsymmetric; sort and pack it (and drop nothing) */
     cholmod_sort(a, c);
     int n = (int)a->nrow;
@@ -229,7 +234,8 @@ int main(int argc, char **argv)
     cholmod_dense *b = cholmod_zeros(n, 1, CHOLMOD_REAL, c);
     double alpha[2] = {1, 0}, beta[2] = {0, 0};
     cholmod_sdmult(a, 0, alpha, beta, ones, b, c);
-    umfpack_times(a, scale, repeat, b->x);
+    umfpack_times(a, scale, UMFPACK_ORDERING_AMD, "AMD (as cfrd)", repeat, b->x);
+    umfpack_times(a, scale, UMFPACK_ORDERING_METIS, "METIS", repeat, b->x);
     double asym = asymmetry(a, c);
     printf("asymmetry max|a_ij - a_ji| / max|a| = %.1e\n", asym);
     if (asym <= 1e-12) {
