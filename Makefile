@@ -27,7 +27,8 @@ DECKS ?= $(wildcard inputs/*.dat)
 OUT ?= batch-results
 STUDY ?= inputs/studies/tianshengqiao-joint.dat
 
-.PHONY: run test bench fuzz figures batch study references slurm-check deps build build-debug clean
+.PHONY: run test bench fuzz figures batch study references slurm-check deps build build-debug clean \
+        floor
 
 ## deps: install whatever is missing; a second call only checks (well under a second).
 deps:
@@ -98,6 +99,24 @@ fuzz: build
 bench: build
 	@python3 tools/bench.py
 	@$(MAKE) --no-print-directory accuracy
+
+## floor: numeric factorisation of UMFPACK against CHOLMOD supernodal (AMD, METIS, NESDIS) on
+## the matrix cfrd factorises first in the last stage of the x4 bonded, joint and thin decks,
+## best of 5, one BLAS thread (make floor [MTX=FILE.mtx] for one matrix; docs/performance.md
+## (k); about 2 min)
+FLOOR_STAGE ?= 45
+build/floor/factor_floor: tools/factor_floor.c
+	@mkdir -p build/floor
+	@gcc -O2 -Wall -o $@ $< -lcholmod -lumfpack -lsuitesparseconfig -lm
+floor: build build/floor/factor_floor
+	@if [ -n "$(MTX)" ]; then OPENBLAS_NUM_THREADS=1 build/floor/factor_floor $(MTX); else \
+	  for i in bonded joint thin; do \
+	    python3 tools/tianshengqiao.py --refine 4 --interface $$i --deck build/floor/x4-$$i.dat \
+	      >/dev/null && \
+	    CFRD_WRITE_MATRIX=build/floor/x4-$$i.mtx CFRD_WRITE_MATRIX_STAGE=$(FLOOR_STAGE) \
+	      bin/cfrd --quiet --compress 0 --out build/floor build/floor/x4-$$i.dat && \
+	    OPENBLAS_NUM_THREADS=1 build/floor/factor_floor build/floor/x4-$$i.mtx || exit 1; \
+	  done; fi
 
 ## accuracy: error against wall time of the Tianshengqiao-I decks, one knob at a time;
 ## tables and plots in build/accuracy/ (docs/accuracy-cost.md; runs cached there, about

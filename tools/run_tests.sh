@@ -193,6 +193,10 @@ tool_checks "xdmf" python3 tools/check_results_format.py --xdmf --cfrd "$cfrd" \
 # its XDMF file read back by meshio, --compress usage errors (tools/check_results_format.py).
 tool_checks "results format" python3 tools/check_results_format.py --cfrd "$cfrd" \
     --workdir "$work/format"
+# The measuring aid of issue 21: CFRD_WRITE_MATRIX leaves the results bit-identical, writes
+# the stage's matrix (read back by scipy), and tools/factor_floor.c solves it (x = 1).
+tool_checks "matrix market" python3 tools/check_matrix_market.py --cfrd "$cfrd" \
+    --workdir "$work/matrix-market"
 # The figures plot what the HDF5 files hold (tools/figures.py --data against h5py reads):
 # the joint deck alone, then the contact deck with the joint deck (both methods in one set).
 tool_checks "figures" python3 tools/check_figures.py --run "$cfrd" --workdir "$work/figures"

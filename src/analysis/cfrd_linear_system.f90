@@ -12,6 +12,7 @@ module cfrd_linear_system
     use cfrd_results, only: stage_result_t
     use cfrd_sparse, only: sparse_pattern_t, build_pattern, assemble_element
     use cfrd_umfpack, only: umfpack_t
+    use cfrd_matrix_market, only: write_matrix_if_asked
     use cfrd_assembly, only: element_box_t, dof_map_t, number_equations
     use cfrd_contact, only: contact_t, contact_slip, contact_stick
     use cfrd_contact_constraints, only: contact_element_dofs, contact_element_matrix, &
@@ -259,6 +260,9 @@ contains
         character(len=*), intent(in) :: context
         type(error_t), allocatable, intent(out) :: error
         real(dp) :: t1
+        ! CFRD_WRITE_MATRIX (a measuring aid, off by default): before the clock starts
+        call write_matrix_if_asked(system%pattern, system%values, context, &
+                                   result%factorisations)
         t1 = wall_seconds()
         if (.not. system%analysed) then
             ! Symbolic factorisation once per pattern (after the first assembly, so that
