@@ -142,16 +142,17 @@ def check_stop(cfrd, work):
 # other deck has started too, and records how many ran at once.
 FAKE_CFRD = """#!/usr/bin/env bash
 out=$2; stem=$(basename "$3" .dat); mode=$(cat "$out/mode")
-mkdir "$out/running-$stem"
+mkdir "$out/running-$stem" "$out/started-$stem"
 ls -d "$out"/running-* | wc -l >>"$out/at-once"
-others() { ls -d "$out"/running-* "$out"/done-* 2>/dev/null | wc -l; }
+# started-* are never removed: a count of them cannot miss a deck that finished meanwhile
+started() { ls -d "$out"/started-* 2>/dev/null | wc -l; }
 if [[ $mode == barrier ]]; then
-    for i in $(seq 300); do [[ $(others) -ge 2 ]] && break; sleep 0.1; done
-    [[ $(others) -ge 2 ]] || { echo "cfrd: the other deck did not start"; exit 1; }
+    met=0
+    for i in $(seq 300); do [[ $(started) -ge 2 ]] && { met=1; break; }; sleep 0.1; done
+    [[ $met == 1 ]] || { echo "cfrd: the other deck did not start"; exit 1; }
 else
     sleep 0.2
 fi
-mkdir "$out/done-$stem"
 rmdir "$out/running-$stem"
 """
 

@@ -107,7 +107,9 @@ def main():
     gauges_csv = "outputs/tianshengqiao-x1-gauges.csv"
     with open(gauges_csv, newline="") as fh:
         rows = list(csv.reader(fh))
-    col, row = rows[0].index("C3-H4_settlement_m"), next(r for r in rows if r[0] == "30")
+    head = next(i for i, r in enumerate(rows) if r and not r[0].startswith("#"))  # run id
+    col = rows[head].index("C3-H4_settlement_m")
+    row = next(r for r in rows[head + 1:] if r[0] == "30")
     row[col] = f"{float(row[col]) + 1e-4:.9E}"
     copy_csv = os.path.join(work, "perturbed-gauges.csv")
     with open(copy_csv, "w", newline="") as fh:
