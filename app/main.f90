@@ -22,6 +22,7 @@ program cfrd_main
     use cfrd_memory, only: tune_allocator
     use cfrd_hdf5, only: results_format_t
     use cfrd_blas_threads, only: set_blas_threads
+    use cfrd_omp_threads, only: set_omp_threads
     use cfrd_restart, only: restart_t, open_restart, restart_model, restart_stem, &
                             read_restart_stage, close_restart
     implicit none
@@ -38,6 +39,8 @@ program cfrd_main
         !> (0: its last completed stage)
         character(len=:), allocatable :: restart
         integer :: from_stage = 0
+        !> --threads N: the OpenMP threads of the element loops (0: OMP_NUM_THREADS, else 1)
+        integer :: threads = 0
     end type options_t
 
     !> The deck being run and its result files. They live here, not in run_deck, because
@@ -62,6 +65,7 @@ program cfrd_main
     i = set_blas_threads()
     call parse_command_line(options, decks, error)
     if (.not. allocated(error)) call check_outputs(options, decks, error)
+    if (.not. allocated(error)) i = set_omp_threads(options%threads)
     if (allocated(error)) then
         write (error_unit, '(a)') 'cfrd: '//error%message
         if (error%category == usage_error) write (error_unit, '(a)') "Try 'cfrd --help'."
@@ -381,6 +385,23 @@ contains
                     end if
                     options%format%deflate = level
                 end block
+            case ('--threads')
+                block
+                    integer :: count, stat
+                    count = 0
+                    if (i < n) then
+                        i = i + 1
+                        call get_command_argument(i, arg, length)
+                        read (arg, *, iostat=stat) count
+                        if (stat /= 0 .or. verify(trim(arg), '0123456789') /= 0) count = 0
+                    end if
+                    if (count < 1 .or. count > 1024) then
+                        call fatal_error(error, 'option --threads needs a number of '// &
+                                         'threads from 1 to 1024', usage_error)
+                        return
+                    end if
+                    options%threads = count
+                end block
             case ('--restart', '--from-stage')
                 if (i == n) then
                     call fatal_error(error, 'option '//trim(arg)//' needs a value', &
@@ -524,6 +545,10 @@ contains
             '                (with the shuffle filter; lossless, about half the size)', &
             '  --float32     store the stages'' fields in single precision (7 digits):', &
             '                half the size again; the mesh and attributes stay double', &
+            '  --threads N   OpenMP threads of the element loops (assembly, stress', &
+            '                update); default OMP_NUM_THREADS, else 1. The results are', &
+            '                the same bits for any N; the factorisation stays on one', &
+            '                thread (CFRD_BLAS_THREADS)', &
             '  --legacy-listing', &
             '                also write DECK.lst: the legacy codes'' per-layer tables of', &
             '                node displacements and element stresses and stress levels', &
