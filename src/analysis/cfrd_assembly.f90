@@ -21,8 +21,10 @@ module cfrd_assembly
     !> Elements per block of the parallel element loops: a block's contributions are
     !> computed on the OpenMP threads into storage of their own, then added in element
     !> order by one thread, so that every sum is taken in the same order for any thread
-    !> count [choice: 256 element matrices, 512 kB, stay in a core's L2 cache].
-    integer, parameter :: block_size = 256
+    !> count. Few blocks, few joins of the threads [choice: 4096 element matrices, 8 MB;
+    !> with 256 a 2-thread run on a loaded machine took 3.6 times as long as 1 thread,
+    !> docs/performance.md (m)].
+    integer, parameter :: block_size = 4096
     !> Fewer elements than this run on one thread: the threads' start would cost more
     !> [choice].
     integer, parameter :: min_parallel = 32
@@ -232,10 +234,10 @@ contains
         integer :: first, last, k, nn
         values = 0.0_dp
         list = active_list(active)
-        allocate (ke(16, 16, block_size))
+        allocate (ke(16, 16, max(1, min(block_size, size(list)))))
         do first = 1, size(list), block_size
             last = min(first + block_size - 1, size(list))
-            !$omp parallel do schedule(static) if (last - first >= min_parallel)
+            !$omp parallel do schedule(dynamic, 16) if (last - first >= min_parallel)
             do k = first, last
                 call element_stiffness(model, library, list(k), stress, strain, history, &
                                        ke(:, :, k - first + 1), tangents)
@@ -298,10 +300,10 @@ contains
         force = 0.0_dp
         if (present(magnitude)) magnitude = 0.0_dp
         list = active_list(active)
-        allocate (fe(16, block_size))
+        allocate (fe(16, max(1, min(block_size, size(list)))))
         do first = 1, size(list), block_size
             last = min(first + block_size - 1, size(list))
-            !$omp parallel do schedule(static) if (last - first >= min_parallel)
+            !$omp parallel do schedule(dynamic, 16) if (last - first >= min_parallel)
             do k = first, last
                 call element_force(model, library, list(k), stress, fe(:, k - first + 1))
             end do

@@ -425,6 +425,8 @@ contains
         real(dp), allocatable :: d(:, :, :, :)
         integer :: e, ig
         allocate (d(4, 4, ngauss, model%mesh%nelem), source=0.0_dp)
+        !$omp parallel do schedule(dynamic, 32) private(ig) &
+        !$omp if (model%mesh%nelem >= min_parallel)
         do e = 1, model%mesh%nelem
             if (.not. state%active(e)) cycle
             do ig = 1, library(model%mesh%kind(e))%element%gauss_points()
@@ -433,6 +435,7 @@ contains
                                       state%history(:, ig, e), d(:, :, ig, e))
             end do
         end do
+        !$omp end parallel do
     end function start_tangents
 
     !> The start stress of point ig of element e in the Newton iterations' stress updates.
@@ -457,6 +460,8 @@ contains
         real(dp) :: strain(4, ngauss)
         integer :: e, ng, ig
         allocate (c(4, 4, ngauss, model%mesh%nelem), source=0.0_dp)
+        !$omp parallel do schedule(dynamic, 32) private(strain, ng, ig) &
+        !$omp if (model%mesh%nelem >= min_parallel)
         do e = 1, model%mesh%nelem
             if (.not. state%active(e)) cycle
             call element_strains(model, library, e, du, strain, ng)
@@ -468,6 +473,7 @@ contains
                                              substeps(ig, e))
             end do
         end do
+        !$omp end parallel do
     end function consistent_tangents
 
     !> The sub-steps of each point's stress update over du under Newton
@@ -485,6 +491,8 @@ contains
         integer :: e, ng, ig
         allocate (n(ngauss, model%mesh%nelem), source=1)
         if (present(floor)) n = floor
+        !$omp parallel do schedule(dynamic, 32) private(strain, ng, ig) &
+        !$omp if (model%mesh%nelem >= min_parallel)
         do e = 1, model%mesh%nelem
             if (.not. state%active(e)) cycle
             call element_strains(model, library, e, du, strain, ng)
@@ -496,6 +504,7 @@ contains
                                                d_start(:, :, ig, e)))
             end do
         end do
+        !$omp end parallel do
     end function substep_counts
 
     !> |f_target - f_int(stress)| over the free dofs; `roundoff`, the residual that floating
