@@ -369,39 +369,13 @@ contains
             case ('--float32')
                 options%format%single = .true.
             case ('--compress')
-                block
-                    integer :: level, stat
-                    level = -1
-                    if (i < n) then
-                        i = i + 1
-                        call get_command_argument(i, arg, length)
-                        read (arg, *, iostat=stat) level
-                        if (stat /= 0 .or. len_trim(arg) /= 1) level = -1
-                    end if
-                    if (level < 0 .or. level > 9) then
-                        call fatal_error(error, 'option --compress needs a level from 0 '// &
-                                         '(none) to 9', usage_error)
-                        return
-                    end if
-                    options%format%deflate = level
-                end block
+                call next_number(i, n, 0, 9, options%format%deflate, error, &
+                                 'option --compress needs a level from 0 (none) to 9')
+                if (allocated(error)) return
             case ('--threads')
-                block
-                    integer :: count, stat
-                    count = 0
-                    if (i < n) then
-                        i = i + 1
-                        call get_command_argument(i, arg, length)
-                        read (arg, *, iostat=stat) count
-                        if (stat /= 0 .or. verify(trim(arg), '0123456789') /= 0) count = 0
-                    end if
-                    if (count < 1 .or. count > 1024) then
-                        call fatal_error(error, 'option --threads needs a number of '// &
-                                         'threads from 1 to 1024', usage_error)
-                        return
-                    end if
-                    options%threads = count
-                end block
+                call next_number(i, n, 1, 1024, options%threads, error, &
+                                 'option --threads needs a number of threads from 1 to 1024')
+                if (allocated(error)) return
             case ('--restart', '--from-stage')
                 if (i == n) then
                     call fatal_error(error, 'option '//trim(arg)//' needs a value', &
@@ -490,6 +464,31 @@ contains
             return
         end if
     end subroutine parse_command_line
+
+    !> The option's value: argument i + 1 (i moves past it), digits only, from lowest to
+    !> highest; otherwise a usage error with `message`.
+    subroutine next_number(i, n, lowest, highest, value, error, message)
+        integer, intent(inout) :: i
+        integer, intent(in) :: n, lowest, highest
+        integer, intent(inout) :: value
+        type(error_t), allocatable, intent(out) :: error
+        character(len=*), intent(in) :: message
+        character(len=32) :: arg
+        integer :: length, stat, number
+        number = lowest - 1
+        if (i < n) then
+            i = i + 1
+            call get_command_argument(i, arg, length)
+            read (arg, *, iostat=stat) number
+            if (stat /= 0 .or. length > len(arg) .or. length == 0 .or. &
+                verify(arg(1:min(length, len(arg))), '0123456789') /= 0) number = lowest - 1
+        end if
+        if (number < lowest .or. number > highest) then
+            call fatal_error(error, message, usage_error)
+            return
+        end if
+        value = number
+    end subroutine next_number
 
     !> cfrd --check DIR / RESULTS.h5: whether each result set is whole (docs/results.md,
     !> "Result sets"); `worst` becomes 1 when one is not, 2 for a path that names none.
