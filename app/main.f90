@@ -547,7 +547,8 @@ contains
             '  --threads N   OpenMP threads of the element loops (assembly, stress', &
             '                update); default OMP_NUM_THREADS, else 1. The results are', &
             '                the same bits for any N; the factorisation stays on one', &
-            '                thread (CFRD_BLAS_THREADS)', &
+            '                thread (CFRD_BLAS_THREADS); with N > 1 set', &
+            '                OMP_WAIT_POLICY=passive on a shared machine', &
             '  --legacy-listing', &
             '                also write DECK.lst: the legacy codes'' per-layer tables of', &
             '                node displacements and element stresses and stress levels', &

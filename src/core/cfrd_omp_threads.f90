@@ -7,7 +7,10 @@
 !> (docs/performance.md, "OpenMP"). The results are the same bits for any count: the
 !> threads compute element contributions into storage of their own, and the sums are
 !> taken in the one serial order (cfrd_assembly). Built without OpenMP, the program runs
-!> one thread whatever is asked.
+!> one thread whatever is asked. With more than one thread, libgomp's idle workers spin
+!> for a while after each loop unless OMP_WAIT_POLICY=passive, which libgomp reads when it
+!> is loaded, before any Fortran runs: on a shared machine a 2-thread run spun through 6.5
+!> s of CPU time (docs/performance.md (m)); README says to set it.
 module cfrd_omp_threads
     !$ use omp_lib, only: omp_set_num_threads, omp_get_max_threads
     implicit none
