@@ -8,7 +8,8 @@ fault), exit status 1, no NaN or Inf in any output and the results of an earlier
   python3 tools/hard_cases.py --cfrd bin/cfrd [--workdir DIR] [--only NAME] [--table]
 
 --table prints the rows of the table in docs/robustness.md (outcome, cutbacks, contact
-iterations per case).
+iterations per case); --refinement, instead of the checks, the table of docs/theory.md section
+14 (fine-smooth-two-faces on finer foundations, measured).
 """
 import math
 import os
@@ -626,6 +627,40 @@ def check_fine_smooth(cfrd, work):
     return r, "converged; " + "; ".join(out)
 
 
+def master_refinement(cfrd, work):
+    """Issue 20's criterion on the fine-smooth deck with friction as the foundation is
+    refined (docs/theory.md section 14; measured, not asserted): the slab of 32 faces on 1-32
+    master faces, and 16 slave faces per master face on 4-16 master faces. Per run: the
+    largest |second difference| d of the pressure over the peak and where; d h / 2 / L (h the
+    slave face, L = 4 m), the force of a one-node spike of that d per p_max L; the same d
+    frictionless; the sign changes of the second difference between adjacent interior nodes
+    where both exceed 1e-3 of the peak (pressures alternating from node to node change it at
+    every pair) and how many lie within two slave faces of a master node."""
+    rows = ["| master faces | slave faces | law | d (x m) | d h / 2L | d frictionless | "
+            "sign changes (near a master node) |", "|---" * 7 + "|"]
+    for faces, nx in [(f, 32) for f in (1, 2, 4, 8, 16, 32)] + \
+            [(f, 16 * f) for f in (4, 8, 16)]:
+        out = []
+        for mu in (FINE_MU, 0.0):
+            d, _ = smooth_deck(mu, faces, nx)
+            p, _, st, _, o = surface_profile(last_contact(runner.run_text(
+                cfrd, os.path.join(work, f"refine-{faces}-{nx}-{mu}.dat"), d.text())))
+            out.append(((p[:-2] - 2 * p[1:-1] + p[2:]) / p.max(), int(np.sum(st == 0))))
+        (d2, opened), (d0, _) = out
+        both = (np.abs(d2[:-1]) > 1e-3) & (np.abs(d2[1:]) > 1e-3)
+        change = np.where((d2[:-1] * d2[1:] < 0) & both)[0] + 1     # slave nodes i, i + 1
+        r = nx // faces
+        at_master = [i for i in change if min(i % r, r - i % r, (i + 1) % r,
+                                              r - (i + 1) % r) <= 2]
+        k = int(np.argmax(np.abs(d2)))
+        rows.append(f"| {faces} | {nx} | {'per master segment' if nx >= 3 * faces else 'per node'}"
+                    f" | {np.abs(d2).max():.3f} ({4.0 * (k + 1) / nx:g}) | "
+                    f"{np.abs(d2).max() * 4.0 / nx / 8.0:.4f} | {np.abs(d0).max():.4f} | "
+                    f"{len(change)} of {int(both.sum())} ({len(at_master)}) |"
+                    + (f" {opened} open" if opened else ""))
+    return rows
+
+
 def check_rpim_bend(cfrd, work):
     r = Run(cfrd, work, "rpim-bend-rpim.dat")
     ref = Run(cfrd, work, "rpim-bend-linear.dat")
@@ -715,7 +750,13 @@ def main(argv=None):
     ap.add_argument("--write", action="store_true")
     ap.add_argument("--only")
     ap.add_argument("--table", action="store_true")
+    ap.add_argument("--refinement", action="store_true",
+                    help="measure fine-smooth-two-faces at finer foundations (a table)")
     args = ap.parse_args(argv)
+    if args.refinement:
+        os.makedirs(args.workdir, exist_ok=True)
+        print("\n".join(master_refinement(args.cfrd, args.workdir)))
+        return 0
     if args.write:
         os.makedirs(DECKS, exist_ok=True)
         for make in CASE_DECKS:
