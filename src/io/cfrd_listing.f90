@@ -492,8 +492,9 @@ contains
             return
         end if
         write (unit, '(a,i0,a,i0,a)') '  left out: ', stage%extremes(1)%left_out, ' slab and ', &
-            stage%extremes(2)%left_out, ' rockfill elements with their centroid within two'// &
-            ' slab thicknesses of a slab node on a support, where the stresses are singular'// &
+            stage%extremes(2)%left_out, ' rockfill elements, and the slab sections (max fibre,'// &
+            ' max N/h), with their centroid within two slab thicknesses of a slab node on a'// &
+            ' support, where the stresses are singular'// &
             ' (they grow as the mesh is refined; docs/theory.md section 13):'
         write (unit, '(a,*(1x,i0))') '    nodes', stage%singular_nodes
         associate (x => model%mesh%x(:, stage%singular_nodes))
