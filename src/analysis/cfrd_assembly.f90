@@ -3,6 +3,7 @@
 !> tangent stiffness and the internal forces through the one element interface.
 module cfrd_assembly
     use cfrd_kinds, only: dp
+    use cfrd_omp_threads, only: loop_threads
     use cfrd_error, only: error_t
     use cfrd_model, only: model_t, load_set_t, all_groups
     use cfrd_element, only: element_t
@@ -21,10 +22,11 @@ module cfrd_assembly
     !> Elements per block of the parallel element loops: a block's contributions are
     !> computed on the OpenMP threads into storage of their own, then added in element
     !> order by one thread, so that every sum is taken in the same order for any thread
-    !> count. Few blocks, few joins of the threads [choice: 4096 element matrices, 8 MB;
-    !> with 256 a 2-thread run on a loaded machine took 3.6 times as long as 1 thread,
-    !> docs/performance.md (m)].
-    integer, parameter :: block_size = 4096
+    !> count (and any block size). With threads, few blocks, few joins [choice: 4096
+    !> element matrices, 8 MB; with 256 a 2-thread run on a loaded machine took 3.6 times
+    !> as long as 1 thread]; with one thread, blocks whose matrices stay in the cache
+    !> [choice: 128, 256 kB] (docs/performance.md (m)).
+    integer, parameter :: block_size = 4096, serial_block_size = 128
     !> Fewer elements than this run on one thread: the threads' start would cost more
     !> [choice].
     integer, parameter :: min_parallel = 32
@@ -231,12 +233,13 @@ contains
         real(dp), intent(in), optional :: tangents(:, :, :, :)
         real(dp), allocatable :: ke(:, :, :)
         integer, allocatable :: list(:)
-        integer :: first, last, k, nn
+        integer :: first, last, k, nn, nb
         values = 0.0_dp
         list = active_list(active)
-        allocate (ke(16, 16, max(1, min(block_size, size(list)))))
-        do first = 1, size(list), block_size
-            last = min(first + block_size - 1, size(list))
+        nb = block_elements()
+        allocate (ke(16, 16, max(1, min(nb, size(list)))))
+        do first = 1, size(list), nb
+            last = min(first + nb - 1, size(list))
             !$omp parallel do schedule(dynamic, 16) if (last - first >= min_parallel)
             do k = first, last
                 call element_stiffness(model, library, list(k), stress, strain, history, &
@@ -249,6 +252,12 @@ contains
             end do
         end do
     end subroutine assemble_tangent
+
+    !> Elements per block of the element loops (block_size, serial_block_size).
+    integer function block_elements()
+        block_elements = block_size
+        if (loop_threads() == 1) block_elements = serial_block_size
+    end function block_elements
 
     !> The active elements in order.
     pure function active_list(active) result(list)
@@ -296,13 +305,14 @@ contains
         real(dp), intent(out), optional :: magnitude(:, :)
         real(dp), allocatable :: fe(:, :)
         integer, allocatable :: list(:)
-        integer :: first, last, k, nn
+        integer :: first, last, k, nn, nb
         force = 0.0_dp
         if (present(magnitude)) magnitude = 0.0_dp
         list = active_list(active)
-        allocate (fe(16, max(1, min(block_size, size(list)))))
-        do first = 1, size(list), block_size
-            last = min(first + block_size - 1, size(list))
+        nb = block_elements()
+        allocate (fe(16, max(1, min(nb, size(list)))))
+        do first = 1, size(list), nb
+            last = min(first + nb - 1, size(list))
             !$omp parallel do schedule(dynamic, 16) if (last - first >= min_parallel)
             do k = first, last
                 call element_force(model, library, list(k), stress, fe(:, k - first + 1))

@@ -16,7 +16,7 @@ module cfrd_omp_threads
     implicit none
     private
 
-    public :: set_omp_threads
+    public :: set_omp_threads, loop_threads
 
 contains
 
@@ -38,4 +38,10 @@ contains
         end if
         !$ threads = omp_get_max_threads()
     end function set_omp_threads
+
+    !> The threads the next element loop will use (1 without OpenMP).
+    integer function loop_threads() result(threads)
+        threads = 1
+        !$ threads = omp_get_max_threads()
+    end function loop_threads
 end module cfrd_omp_threads
