@@ -58,7 +58,7 @@ run: build
 
 ## test: debug build, every test; the last line is `N passed, N failed`
 test: build-debug
-	@$(call fpm,test,debug,$(DEBUG_FLAGS)) >build/fortran-tests.log 2>&1; \
+	@OMP_WAIT_POLICY=passive $(call fpm,test,debug,$(DEBUG_FLAGS)) >build/fortran-tests.log 2>&1; \
 	  tools/run_tests.sh build/fortran-tests.log
 
 ## figures: run DECK, then draw the paper's figures from its results into FIGURES
