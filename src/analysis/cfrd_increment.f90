@@ -21,6 +21,7 @@ module cfrd_increment
                                   multiplier_scale
     use cfrd_active_set, only: solve_system
     use cfrd_stage_state, only: state_t, ngauss
+    use cfrd_error_control, only: out_of_tolerance, balance_error
     implicit none
     private
 
@@ -146,8 +147,13 @@ contains
         if (model%solver == solver_euler .or. system%factorised_linear .or. &
             (state%has_contact .and. all_linear(model, state%active))) then
             ! Euler; or a linear law, for which the midpoint step would repeat the same solve.
-            call integrate_stress(model, library, state, du, stress_end, stress_mid, .false., &
-                                  creep_share=1.0_dp)
+            ! Forward Euler's own stresses balance the load (the update uses the solve's
+            ! tangent): under error control the stresses of the increment are the midpoint
+            ! update's, whose residual is the Euler / modified-Euler difference of Sloan
+            ! (1987), accepted with local extrapolation as there (docs/theory.md section 9).
+            call integrate_stress(model, library, state, du, stress_end, stress_mid, &
+                                  model%solver == solver_euler .and. &
+                                  model%error_tolerance > 0.0_dp, creep_share=1.0_dp)
         else
             ! Midpoint: stresses half-way, the tangent there, and the increment again.
             call integrate_stress(model, library, state, 0.5_dp*du, stress_mid, stress_end, &
@@ -262,6 +268,12 @@ contains
         end if
         if (.not. (residual < huge(1.0_dp))) then
             call fatal_error(error, context//': the solution is not finite', numerical_error)
+            return
+        end if
+        ! Midpoint and Euler: an increment out of balance beyond ERRTOL is not accepted
+        ! (cfrd_error_control; the stage driver halves it).
+        if (out_of_tolerance(model, residual, floor/load_norm)) then
+            call balance_error(model, residual, context, error)
             return
         end if
         state%u = state%u + du

@@ -27,6 +27,7 @@ module cfrd_stage_driver
     use cfrd_linear_system, only: system_t, new_system
     use cfrd_stage_state, only: state_t, ngauss
     use cfrd_increment, only: solve_increment
+    use cfrd_error_control, only: is_balance_error, halvings, depth_note
     use cfrd_restart_carry, only: carry_of, restore_state
     implicit none
     private
@@ -387,6 +388,19 @@ contains
                 state%creep_stress = 0.0_dp
             end if
             if (allocated(error)) then
+                ! Midpoint / Euler out of balance beyond ERRTOL: redo the increment in two
+                ! halves down to DEPTH halvings of the nominal one (cfrd_error_control).
+                if (is_balance_error(error)) then
+                    if (halvings(step, nominal) >= model%max_depth) then
+                        error%message = error%message//depth_note(halvings(step, nominal))
+                        return
+                    end if
+                    deallocate (error)
+                    result%cutbacks = result%cutbacks + 1
+                    step = 0.5_dp*step
+                    k = k - 1
+                    cycle
+                end if
                 if (index(error%message, 'no convergence') == 0) return
                 if (cuts == max_cutbacks) then
                     error%message = error%message//'; the increment cut back '// &

@@ -50,7 +50,7 @@ module cfrd_card_schema
                                                    field_t('TITLE', 11, 70, text_field)]
     type(field_t), parameter :: loads_header_fields(2) = [ &
         field_t('KEYWORD', 1, 10, text_field), field_t('NAME', 11, 10, text_field)]
-    type(field_t), parameter :: control_fields(11) = [ &
+    type(field_t), parameter :: control_fields(13) = [ &
         field_t('NNODE', 1, 5, int_field, lo=0.0_dp, expected=a_count, found=found_value), &
         field_t('NELEM', 6, 5, int_field, lo=0.0_dp, expected=a_count, found=found_value), &
         field_t('NMAT', 11, 5, int_field, lo=0.0_dp, expected=a_count, found=found_value), &
@@ -72,7 +72,11 @@ module cfrd_card_schema
         field_t('TOL', 61, 10, real_field, default=1.0e-6_dp, lo=0.0_dp, lo_open=.true., &
                 expected='a real > 0'), &
         field_t('MAXIT', 71, 5, int_field, default=20.0_dp, lo=1.0_dp, &
-                expected='a number of iterations >= 1', found=found_value)]
+                expected='a number of iterations >= 1', found=found_value), &
+        field_t('ERRTOL', 76, 10, real_field, default=5.0e-3_dp, lo=0.0_dp, hi=1.0_dp, &
+                expected='a real with 0 <= ERRTOL <= 1 (0: no error control)'), &
+        field_t('DEPTH', 86, 5, int_field, default=8.0_dp, lo=0.0_dp, hi=20.0_dp, &
+                expected='a number of halvings with 0 <= DEPTH <= 20', found=found_value)]
     !> EFFECTS: each switch's first word (blank too) is the effect on (value 1).
     type(field_t), parameter :: effects_fields(9) = [ &
         field_t('KEYWORD', 1, 10, text_field), &

@@ -58,7 +58,7 @@ contains
                            parse_first=.true.)
             if (allocated(error)) return
             call read_card(file, card, control_fields, 'CONTROL', v, error, &
-                           only=[4, 5, 6, 7, 8, 9, 10, 11])
+                           only=[4, 5, 6, 7, 8, 9, 10, 11, 12, 13])
             if (allocated(error)) return
         end associate
         counts%nnode = v%int(1)
@@ -71,6 +71,8 @@ contains
         model%solver = v%int(9)
         model%tolerance = v%x(10)
         model%max_iterations = v%int(11)
+        model%error_tolerance = v%x(12)
+        model%max_depth = v%int(13)
     end subroutine read_control
 
     !> The EFFECTS card: each field a keyword, blank for the default (the effect on, the

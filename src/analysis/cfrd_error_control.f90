@@ -1,0 +1,66 @@
+!> Error control of the midpoint and forward Euler increments (issue 21): an increment whose
+!> relative out-of-balance force |f_k - f_int(sigma_new)| / |f_k| (the listing's MAX RESID)
+!> exceeds ERRTOL is rejected, and the stage driver redoes it from its start state in two
+!> halves, at most DEPTH halvings below the stage's nominal increment; the step grows back
+!> after an accepted one (docs/theory.md section 9, "Error control").
+module cfrd_error_control
+    use cfrd_kinds, only: dp
+    use cfrd_error, only: error_t, fatal_error, numerical_error
+    use cfrd_strings, only: to_text, real_text
+    use cfrd_model, only: model_t, solver_newton
+    implicit none
+    private
+
+    public :: out_of_tolerance, balance_error, is_balance_error, halvings, depth_note
+
+    !> The words that mark an increment rejected by the error control.
+    character(len=*), parameter :: marker = 'out of balance above ERRTOL'
+
+contains
+
+    !> Whether an increment with relative residual `residual` is rejected: midpoint or Euler,
+    !> ERRTOL > 0, and the residual above both ERRTOL and `roundoff` (the relative residual
+    !> floating point resolves in the assembled forces, as for Newton's TOL).
+    pure logical function out_of_tolerance(model, residual, roundoff)
+        type(model_t), intent(in) :: model
+        real(dp), intent(in) :: residual, roundoff
+        out_of_tolerance = .false.
+        if (model%solver == solver_newton .or. model%error_tolerance <= 0.0_dp) return
+        out_of_tolerance = residual > max(model%error_tolerance, roundoff)
+    end function out_of_tolerance
+
+    !> The error of a rejected increment: where (context: stage, increment, load fraction)
+    !> and the residual against ERRTOL.
+    subroutine balance_error(model, residual, context, error)
+        type(model_t), intent(in) :: model
+        real(dp), intent(in) :: residual
+        character(len=*), intent(in) :: context
+        type(error_t), allocatable, intent(out) :: error
+        call fatal_error(error, context//': '//marker//' (relative residual '// &
+                         real_text(residual)//', ERRTOL '//real_text(model%error_tolerance)// &
+                         ')', numerical_error)
+    end subroutine balance_error
+
+    !> Whether `error` is the rejection of an increment by the error control.
+    pure logical function is_balance_error(error)
+        type(error_t), intent(in) :: error
+        is_balance_error = index(error%message, marker) > 0
+    end function is_balance_error
+
+    !> The halvings that took the nominal increment to `step` (both load fractions; the
+    !> stage driver's steps are the nominal one over powers of 2, or the rest of the stage,
+    !> counted as the power of 2 nearest to it).
+    pure integer function halvings(step, nominal)
+        real(dp), intent(in) :: step, nominal
+        halvings = max(0, nint(log(nominal/step)/log(2.0_dp)))
+    end function halvings
+
+    !> What the stage driver adds to the message when the depth limit is reached.
+    pure function depth_note(depth) result(text)
+        integer, intent(in) :: depth
+        character(len=:), allocatable :: text
+        text = ' at subdivision depth '//to_text(depth)//' (the increment halved '// &
+               to_text(depth)//' times, DEPTH of CONTROL; ERRTOL = 0 turns the control off)'
+    end function depth_note
+
+end module cfrd_error_control
