@@ -14,7 +14,7 @@ module cfrd_card_schema
 
     public :: card_schema_t, card_schemas
     public :: title_fields, loads_header_fields
-    public :: control_fields, effects_fields, node_fields, element_fields, material_fields, &
+    public :: control_fields, effects_fields, errctl_fields, node_fields, element_fields, material_fields, &
               elastic_fields, eb_fields, eb_strength_fields, creep_fields, wetting_fields, &
               goodman_fields, pjoint_fields, plinth_fields, interface_fields, slab_fields, &
               stage_fields, load_stage_fields, &
@@ -50,7 +50,7 @@ module cfrd_card_schema
                                                    field_t('TITLE', 11, 70, text_field)]
     type(field_t), parameter :: loads_header_fields(2) = [ &
         field_t('KEYWORD', 1, 10, text_field), field_t('NAME', 11, 10, text_field)]
-    type(field_t), parameter :: control_fields(13) = [ &
+    type(field_t), parameter :: control_fields(11) = [ &
         field_t('NNODE', 1, 5, int_field, lo=0.0_dp, expected=a_count, found=found_value), &
         field_t('NELEM', 6, 5, int_field, lo=0.0_dp, expected=a_count, found=found_value), &
         field_t('NMAT', 11, 5, int_field, lo=0.0_dp, expected=a_count, found=found_value), &
@@ -72,10 +72,13 @@ module cfrd_card_schema
         field_t('TOL', 61, 10, real_field, default=1.0e-6_dp, lo=0.0_dp, lo_open=.true., &
                 expected='a real > 0'), &
         field_t('MAXIT', 71, 5, int_field, default=20.0_dp, lo=1.0_dp, &
-                expected='a number of iterations >= 1', found=found_value), &
-        field_t('ERRTOL', 76, 10, real_field, default=5.0e-3_dp, lo=0.0_dp, hi=1.0_dp, &
+                expected='a number of iterations >= 1', found=found_value)]
+    !> ERRCTL: the error control of the midpoint and Euler increments (issue 21).
+    type(field_t), parameter :: errctl_fields(3) = [ &
+        field_t('KEYWORD', 1, 10, text_field), &
+        field_t('ERRTOL', 11, 10, real_field, default=5.0e-3_dp, lo=0.0_dp, hi=1.0_dp, &
                 expected='a real with 0 <= ERRTOL <= 1 (0: no error control)'), &
-        field_t('DEPTH', 86, 5, int_field, default=8.0_dp, lo=0.0_dp, hi=20.0_dp, &
+        field_t('DEPTH', 21, 5, int_field, default=8.0_dp, lo=0.0_dp, hi=20.0_dp, &
                 expected='a number of halvings with 0 <= DEPTH <= 20', found=found_value)]
     !> EFFECTS: each switch's first word (blank too) is the effect on (value 1).
     type(field_t), parameter :: effects_fields(9) = [ &
@@ -332,9 +335,10 @@ contains
     !> Every card layout, named as in docs/cards.md (group section, card number).
     function card_schemas() result(cards)
         type(card_schema_t), allocatable :: cards(:)
-        allocate (cards(29))
+        allocate (cards(30))
         call set(1, 'CONTROL', 'CONTROL', 0, control_fields)
         call set(2, 'CONTROL EFFECTS', 'CONTROL', 0, effects_fields)
+        call set(30, 'CONTROL ERRCTL', 'CONTROL', 0, errctl_fields)
         call set(3, 'NODES', 'NODES', 0, node_fields)
         call set(4, 'ELEMENTS', 'ELEMENTS', 0, element_fields)
         call set(5, 'MATERIALS card 1', 'MATERIALS', 0, material_fields)
