@@ -11,7 +11,7 @@ module cfrd_error_control
     implicit none
     private
 
-    public :: out_of_tolerance, balance_error, is_balance_error, halvings, depth_note
+    public :: out_of_tolerance, balance_error, is_balance_error, halvings, depth_note, may_grow
 
     !> The words that mark an increment rejected by the error control.
     character(len=*), parameter :: marker = 'out of balance above ERRTOL'
@@ -41,6 +41,20 @@ contains
                          ')', numerical_error)
     end subroutine balance_error
 
+    !> Whether the step may double after an accepted increment of relative residual
+    !> `residual`: always without error control (the Newton cutbacks grow back at once);
+    !> under it only when the residual predicts that the doubled step stays below ERRTOL.
+    !> The step rule of second-order error-controlled schemes, q = 0.9 (ERRTOL/residual)^(1/2)
+    !> (Sloan, Abbo & Sheng 2001), reaches q = 2 at residual = 0.2 ERRTOL [lit; the halving
+    !> and doubling in place of q itself: choice, docs/theory.md section 9].
+    pure logical function may_grow(model, residual)
+        type(model_t), intent(in) :: model
+        real(dp), intent(in) :: residual
+        may_grow = .true.
+        if (model%solver == solver_newton .or. model%error_tolerance <= 0.0_dp) return
+        may_grow = residual <= 0.2_dp*model%error_tolerance
+    end function may_grow
+
     !> Whether `error` is the rejection of an increment by the error control.
     pure logical function is_balance_error(error)
         type(error_t), intent(in) :: error
@@ -60,7 +74,8 @@ contains
         integer, intent(in) :: depth
         character(len=:), allocatable :: text
         text = ' at subdivision depth '//to_text(depth)//' (the increment halved '// &
-               to_text(depth)//' times, DEPTH of CONTROL; ERRTOL = 0 turns the control off)'
+               to_text(depth)//' times: DEPTH of CONTROL ERRCTL; ERRTOL = 0 turns the '// &
+               'control off)'
     end function depth_note
 
 end module cfrd_error_control

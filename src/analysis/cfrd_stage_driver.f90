@@ -27,7 +27,7 @@ module cfrd_stage_driver
     use cfrd_linear_system, only: system_t, new_system
     use cfrd_stage_state, only: state_t, ngauss
     use cfrd_increment, only: solve_increment
-    use cfrd_error_control, only: is_balance_error, halvings, depth_note
+    use cfrd_error_control, only: is_balance_error, halvings, depth_note, may_grow
     use cfrd_restart_carry, only: carry_of, restore_state
     implicit none
     private
@@ -336,7 +336,7 @@ contains
         integer, parameter :: max_cutbacks = 6, max_growth = 64
         real(dp), allocatable :: creep_before(:, :, :), wet_before(:, :, :)
         logical :: creeps, wets
-        real(dp) :: done, step, nominal, level
+        real(dp) :: done, step, nominal, level, residual
         real(dp), allocatable :: f_water(:, :)
         integer :: cuts, k
         character(len=:), allocatable :: context
@@ -380,7 +380,7 @@ contains
             end if
             call solve_increment(model, library, state, system, &
                                  f_start + f_water + stage_force*(done + step), &
-                                 du_stage*step, result, context, error)
+                                 du_stage*step, result, context, error, residual)
             if (creeps .or. wets) then
                 ! the step's creep and wetting are spent (or, after no convergence, undone)
                 if (allocated(error) .and. creeps) state%creep = creep_before
@@ -428,7 +428,7 @@ contains
             done = done + step
             result%increments = result%increments + 1
             cuts = 0
-            step = min(2.0_dp*step, nominal)
+            if (may_grow(model, residual)) step = min(2.0_dp*step, nominal)
         end do
     end subroutine run_increments
 
