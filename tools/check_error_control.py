@@ -11,10 +11,11 @@ midpoint --plinth), whose one-increment-per-layer midpoint run left relative res
                     commercial codes' force tolerance, docs/theory.md), where
   plinth-no-control the same deck with `ERRCTL 0` (no control, the run before issue 21)
                     exceeds it (so that the first check has something to show);
-  depth-limit       with `ERRCTL 0.005 0` (no halving allowed) the run stops with exit status 1
-                    and a message naming the stage, the increment, the relative residual and
-                    the subdivision depth (the house rule for a numerical failure), and
-                    writes no results file (DECK.h5).
+  depth-limit       with `ERRCTL 0.005 0` (no halving allowed) the run completes (exit 0)
+                    with a warning on standard error for every stage whose max_residual
+                    exceeds ERRTOL, naming the stage, the increment, the relative residual
+                    and the subdivision depth, and the listing's stage table counts those
+                    stages (docs/theory.md says why a warning and not exit 1).
 
   python3 tools/check_error_control.py --cfrd bin/cfrd --workdir build/errctl  (PASS/FAIL)
 """
@@ -61,12 +62,21 @@ def plinth(cfrd, work):
           f"exit {done.returncode}, largest max_residual {max(r):.3e} without control")
     limit = with_errctl(deck, "ERRCTL       0.005    0", os.path.join(work, "plinth-depth0.dat"))
     done = run(cfrd, limit, check=False)
-    message = done.stderr.strip()
-    named = all(re.search(p, message) for p in (r"stage \d+ \(", r"increment \d+",
-                                                r"relative residual [0-9.Ee+-]+",
-                                                r"subdivision depth 0"))
-    check("depth-limit", done.returncode == 1 and named and not os.path.exists(h5_of(limit)),
-          f"exit {done.returncode}: {message[:400]}")
+    warnings = [w for w in done.stderr.splitlines() if w.startswith("cfrd: warning: ")]
+    named = [int(m.group(1)) for w in warnings
+             if (m := re.search(r"the first: stage (\d+) \(.*\), increment \d+ .*relative "
+                                r"residual [0-9.Ee+-]+, ERRTOL .* at subdivision depth 0", w))]
+    r = residuals(limit) if done.returncode == 0 else []
+    over = [i + 1 for i, x in enumerate(r) if x > ERRTOL]
+    with open(os.path.splitext(limit)[0] + ".out") as f:
+        table = re.search(r"WARNING: \d+ increment\(s\) in (\d+) stage\(s\) accepted with "
+                          r"MAX RESID above ERRTOL", f.read())
+    listed = int(table.group(1)) if table else 0
+    check("depth-limit", done.returncode == 0 and over and named == over
+          and listed == len(over),
+          f"exit {done.returncode}; stages warned on standard error {named}, stages with "
+          f"max_residual above ERRTOL {over}; the listing's stage table warns of {listed} "
+          f"stages; the first: {warnings[0][:300] if warnings else ''}")
 
 
 def main():

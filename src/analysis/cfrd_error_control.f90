@@ -1,8 +1,9 @@
 !> Error control of the midpoint and forward Euler increments (issue 21): an increment whose
 !> relative out-of-balance force |f_k - f_int(sigma_new)| / |f_k| (the listing's MAX RESID)
 !> exceeds ERRTOL is rejected, and the stage driver redoes it from its start state in two
-!> halves, at most DEPTH halvings below the stage's nominal increment; the step grows back
-!> after an accepted one (docs/theory.md section 9, "Error control").
+!> halves, at most DEPTH halvings below the stage's nominal increment, where it is accepted
+!> with a warning; the step grows back after an accepted one (docs/theory.md section 9,
+!> "Error control").
 module cfrd_error_control
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, numerical_error
@@ -11,7 +12,8 @@ module cfrd_error_control
     implicit none
     private
 
-    public :: out_of_tolerance, balance_error, is_balance_error, halvings, depth_note, may_grow
+    public :: out_of_tolerance, balance_error, is_balance_error, halvings, unbalanced_warning, &
+              may_grow
 
     !> The words that mark an increment rejected by the error control.
     character(len=*), parameter :: marker = 'out of balance above ERRTOL'
@@ -69,13 +71,18 @@ contains
         halvings = max(0, nint(log(nominal/step)/log(2.0_dp)))
     end function halvings
 
-    !> What the stage driver adds to the message when the depth limit is reached.
-    pure function depth_note(depth) result(text)
+    !> The warning of an increment accepted above ERRTOL at the depth limit: where
+    !> (context: stage, increment, load fraction), its residual and the depth.
+    function unbalanced_warning(model, context, residual, depth) result(text)
+        type(model_t), intent(in) :: model
+        character(len=*), intent(in) :: context
+        real(dp), intent(in) :: residual
         integer, intent(in) :: depth
         character(len=:), allocatable :: text
-        text = ' at subdivision depth '//to_text(depth)//' (the increment halved '// &
-               to_text(depth)//' times: DEPTH of CONTROL ERRCTL; ERRTOL = 0 turns the '// &
-               'control off)'
-    end function depth_note
+        text = context//': accepted '//marker//' (relative residual '//real_text(residual)// &
+               ', ERRTOL '//real_text(model%error_tolerance)//') at subdivision depth '// &
+               to_text(depth)//' (DEPTH of CONTROL ERRCTL; the residual is carried into '// &
+               'the next increment)'
+    end function unbalanced_warning
 
 end module cfrd_error_control

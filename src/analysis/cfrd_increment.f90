@@ -96,7 +96,8 @@ contains
     !> updated first (the paper's Step 6) and each solve iterates the active set; the contact
     !> state changes only when the increment is accepted.
     subroutine solve_increment(model, library, state, system, f_target, du_prescribed, &
-                               result, context, error, accepted_residual)
+                               result, context, error, accepted_residual, may_reject, &
+                               unbalanced)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(inout) :: state
@@ -108,13 +109,18 @@ contains
         type(error_t), allocatable, intent(out) :: error
         !> the relative residual of the increment accepted (MAX RESID's measure)
         real(dp), intent(out), optional :: accepted_residual
+        !> midpoint / Euler: reject an increment above ERRTOL (default); false at the error
+        !> control's depth limit, where the stage driver accepts it with a warning
+        logical, intent(in), optional :: may_reject
+        !> accepted above ERRTOL (may_reject false)
+        logical, intent(out), optional :: unbalanced
         real(dp), allocatable :: du(:, :), stress_end(:, :, :), stress_mid(:, :, :)
         real(dp) :: residual, load_norm, recent, t0, floor
         real(dp), allocatable :: rhs_stress(:, :, :), d_start(:, :, :, :), f_end(:, :)
         integer, allocatable :: substeps(:, :), grown(:, :)
         integer :: iteration
         type(contact_t), allocatable :: contact
-        logical :: changed, searched, linear
+        logical :: changed, searched, linear, reject
 
         load_norm = max(norm2(f_target), tiny(1.0_dp))
         system%viscous = 0.0_dp
@@ -124,7 +130,6 @@ contains
             call contact_geometry(model, state%active, contact, changed, searched)
             call contact_shear_shape(contact)
             result%stats%t_contact = result%stats%t_contact + (wall_seconds() - t0)
-            if (searched) result%stats%searches = result%stats%searches + 1
             if (changed) then
                 t0 = wall_seconds()
                 call new_system(model, library, state%active, system, error, contact, .true.)
@@ -277,9 +282,17 @@ contains
         ! (cfrd_error_control; the stage driver halves it). Not where every active law is
         ! linear: the update is exact, and what residual there is (round-off against a load
         ! that may pass through zero, the contact's) is no error of the step's size.
-        if (.not. linear .and. out_of_tolerance(model, residual, floor/load_norm)) then
+        reject = .not. linear .and. out_of_tolerance(model, residual, floor/load_norm)
+        if (present(unbalanced)) unbalanced = reject
+        if (present(may_reject)) reject = reject .and. may_reject
+        if (reject) then
             call balance_error(model, residual, context, error)
             return
+        end if
+        if (present(accepted_residual)) accepted_residual = residual
+        ! Searches are counted for the increments accepted (a rejected one searches again).
+        if (state%has_contact) then
+            if (searched) result%stats%searches = result%stats%searches + 1
         end if
         state%u = state%u + du
         state%stress = stress_end
@@ -290,7 +303,6 @@ contains
             call contact_accept(state%contact, du)
         end if
         result%max_residual = max(result%max_residual, residual)
-        if (present(accepted_residual)) accepted_residual = residual
     contains
         function worst_node() result(text)
             character(len=:), allocatable :: text

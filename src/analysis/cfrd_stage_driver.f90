@@ -27,7 +27,7 @@ module cfrd_stage_driver
     use cfrd_linear_system, only: system_t, new_system
     use cfrd_stage_state, only: state_t, ngauss
     use cfrd_increment, only: solve_increment
-    use cfrd_error_control, only: is_balance_error, halvings, depth_note, may_grow
+    use cfrd_error_control, only: is_balance_error, halvings, unbalanced_warning, may_grow
     use cfrd_restart_carry, only: carry_of, restore_state
     implicit none
     private
@@ -337,6 +337,7 @@ contains
         real(dp), allocatable :: creep_before(:, :, :), wet_before(:, :, :)
         logical :: creeps, wets
         real(dp) :: done, step, nominal, level, residual
+        logical :: unbalanced
         real(dp), allocatable :: f_water(:, :)
         integer :: cuts, k
         character(len=:), allocatable :: context
@@ -380,7 +381,8 @@ contains
             end if
             call solve_increment(model, library, state, system, &
                                  f_start + f_water + stage_force*(done + step), &
-                                 du_stage*step, result, context, error, residual)
+                                 du_stage*step, result, context, error, residual, &
+                                 halvings(step, nominal) < model%max_depth, unbalanced)
             if (creeps .or. wets) then
                 ! the step's creep and wetting are spent (or, after no convergence, undone)
                 if (allocated(error) .and. creeps) state%creep = creep_before
@@ -391,10 +393,6 @@ contains
                 ! Midpoint / Euler out of balance beyond ERRTOL: redo the increment in two
                 ! halves down to DEPTH halvings of the nominal one (cfrd_error_control).
                 if (is_balance_error(error)) then
-                    if (halvings(step, nominal) >= model%max_depth) then
-                        error%message = error%message//depth_note(halvings(step, nominal))
-                        return
-                    end if
                     deallocate (error)
                     result%cutbacks = result%cutbacks + 1
                     step = 0.5_dp*step
@@ -424,6 +422,13 @@ contains
                 step = 0.5_dp*step
                 k = k - 1
                 cycle
+            end if
+            ! At the depth limit an increment above ERRTOL is accepted with a warning.
+            if (unbalanced) then
+                result%unbalanced = result%unbalanced + 1
+                if (.not. allocated(result%warning)) &
+                    result%warning = unbalanced_warning(model, context, residual, &
+                                                        halvings(step, nominal))
             end if
             done = done + step
             result%increments = result%increments + 1
