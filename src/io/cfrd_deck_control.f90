@@ -31,23 +31,12 @@ contains
         effects = 0
         errctl = 0
         do i = 1, group%n
-            if (leading_word(group%cards(i)) == errctl_keyword) then
-                if (errctl > 0) then
-                    call card_error(error, file, group%cards(i), 'CONTROL takes one '// &
-                                    'ERRCTL card (the first is at line '// &
-                                    to_text(group%cards(errctl)%line)//')')
-                    return
-                end if
-                errctl = i
-            else if (leading_word(group%cards(i)) == effects_keyword) then
-                if (effects > 0) then
-                    call card_error(error, file, group%cards(i), 'CONTROL takes one '// &
-                                    'EFFECTS card (the first is at line '// &
-                                    to_text(group%cards(effects)%line)//')')
-                    return
-                end if
-                effects = i
-            else
+            select case (leading_word(group%cards(i)))
+            case (errctl_keyword)
+                call take_once(errctl, errctl_keyword)
+            case (effects_keyword)
+                call take_once(effects, effects_keyword)
+            case default
                 if (numbers > 0) then
                     call card_error(error, file, group%cards(i), 'CONTROL takes one card '// &
                                     'of numbers and one EFFECTS card (the card of numbers '// &
@@ -55,7 +44,8 @@ contains
                     return
                 end if
                 numbers = i
-            end if
+            end select
+            if (allocated(error)) return
         end do
         if (effects > 0) then
             call read_effects(file, group%cards(effects), model%effects, error)
@@ -89,6 +79,19 @@ contains
         model%solver = v%int(9)
         model%tolerance = v%x(10)
         model%max_iterations = v%int(11)
+    contains
+        !> Card i is the keyword card `word`, of which CONTROL takes one: `first` its index.
+        subroutine take_once(first, word)
+            integer, intent(inout) :: first
+            character(len=*), intent(in) :: word
+            if (first > 0) then
+                call card_error(error, file, group%cards(i), 'CONTROL takes one '//word// &
+                                ' card (the first is at line '// &
+                                to_text(group%cards(first)%line)//')')
+                return
+            end if
+            first = i
+        end subroutine take_once
     end subroutine read_control
 
     !> The EFFECTS card: each field a keyword, blank for the default (the effect on, the
