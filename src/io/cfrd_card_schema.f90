@@ -16,8 +16,8 @@ module cfrd_card_schema
     public :: title_fields, loads_header_fields
     public :: control_fields, effects_fields, errctl_fields, node_fields, element_fields, &
               material_fields, elastic_fields, eb_fields, eb_strength_fields, creep_fields, &
-              wetting_fields, goodman_fields, pjoint_fields, plinth_fields, interface_fields, slab_fields, &
-              stage_fields, load_stage_fields, &
+              wetting_fields, goodman_fields, pjoint_fields, plinth_fields, interface_fields, &
+              slab_fields, stage_fields, load_stage_fields, &
               water_stage_fields, wet_stage_fields, surface_fields, pair_fields, reservoir_fields, &
               gauge_fields, boundary_fields, gravity_fields, force_fields, pressure_fields
 
