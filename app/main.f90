@@ -22,6 +22,7 @@ program cfrd_main
     use cfrd_memory, only: tune_allocator
     use cfrd_hdf5, only: results_format_t
     use cfrd_blas_threads, only: set_blas_threads
+    use cfrd_omp_threads, only: set_omp_threads
     use cfrd_restart, only: restart_t, open_restart, restart_model, restart_stem, &
                             read_restart_stage, close_restart
     implicit none
@@ -38,6 +39,8 @@ program cfrd_main
         !> (0: its last completed stage)
         character(len=:), allocatable :: restart
         integer :: from_stage = 0
+        !> --threads N: the OpenMP threads of the element loops (0: OMP_NUM_THREADS, else 1)
+        integer :: threads = 0
     end type options_t
 
     !> The deck being run and its result files. They live here, not in run_deck, because
@@ -62,6 +65,7 @@ program cfrd_main
     i = set_blas_threads()
     call parse_command_line(options, decks, error)
     if (.not. allocated(error)) call check_outputs(options, decks, error)
+    if (.not. allocated(error)) i = set_omp_threads(options%threads)
     if (allocated(error)) then
         write (error_unit, '(a)') 'cfrd: '//error%message
         if (error%category == usage_error) write (error_unit, '(a)') "Try 'cfrd --help'."
@@ -369,22 +373,13 @@ contains
             case ('--float32')
                 options%format%single = .true.
             case ('--compress')
-                block
-                    integer :: level, stat
-                    level = -1
-                    if (i < n) then
-                        i = i + 1
-                        call get_command_argument(i, arg, length)
-                        read (arg, *, iostat=stat) level
-                        if (stat /= 0 .or. len_trim(arg) /= 1) level = -1
-                    end if
-                    if (level < 0 .or. level > 9) then
-                        call fatal_error(error, 'option --compress needs a level from 0 '// &
-                                         '(none) to 9', usage_error)
-                        return
-                    end if
-                    options%format%deflate = level
-                end block
+                call next_number(i, n, 0, 9, options%format%deflate, error, &
+                                 'option --compress needs a level from 0 (none) to 9')
+                if (allocated(error)) return
+            case ('--threads')
+                call next_number(i, n, 1, 1024, options%threads, error, &
+                                 'option --threads needs a number of threads from 1 to 1024')
+                if (allocated(error)) return
             case ('--restart', '--from-stage')
                 if (i == n) then
                     call fatal_error(error, 'option '//trim(arg)//' needs a value', &
@@ -474,6 +469,31 @@ contains
         end if
     end subroutine parse_command_line
 
+    !> The option's value: argument i + 1 (i moves past it), digits only, from lowest to
+    !> highest; otherwise a usage error with `message`.
+    subroutine next_number(i, n, lowest, highest, value, error, message)
+        integer, intent(inout) :: i
+        integer, intent(in) :: n, lowest, highest
+        integer, intent(inout) :: value
+        type(error_t), allocatable, intent(out) :: error
+        character(len=*), intent(in) :: message
+        character(len=32) :: arg
+        integer :: length, stat, number
+        number = lowest - 1
+        if (i < n) then
+            i = i + 1
+            call get_command_argument(i, arg, length)
+            read (arg, *, iostat=stat) number
+            if (stat /= 0 .or. length > len(arg) .or. length == 0 .or. &
+                verify(arg(1:min(length, len(arg))), '0123456789') /= 0) number = lowest - 1
+        end if
+        if (number < lowest .or. number > highest) then
+            call fatal_error(error, message, usage_error)
+            return
+        end if
+        value = number
+    end subroutine next_number
+
     !> cfrd --check DIR / RESULTS.h5: whether each result set is whole (docs/results.md,
     !> "Result sets"); `worst` becomes 1 when one is not, 2 for a path that names none.
     subroutine check_result_sets(paths, worst)
@@ -528,6 +548,11 @@ contains
             '                (with the shuffle filter; lossless, about half the size)', &
             '  --float32     store the stages'' fields in single precision (7 digits):', &
             '                half the size again; the mesh and attributes stay double', &
+            '  --threads N   OpenMP threads of the element loops (assembly, stress', &
+            '                update); default OMP_NUM_THREADS, else 1. The results are', &
+            '                the same bits for any N; the factorisation stays on one', &
+            '                thread (CFRD_BLAS_THREADS); with N > 1 set', &
+            '                OMP_WAIT_POLICY=passive on a shared machine', &
             '  --legacy-listing', &
             '                also write DECK.lst: the legacy codes'' per-layer tables of', &
             '                node displacements and element stresses and stress levels', &

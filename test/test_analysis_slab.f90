@@ -159,7 +159,9 @@ contains
     !> (1.5 m and more) are not. Given sigma1 = 900, 500, 700 and sigma3 = -900, -100, -300 in
     !> the slab, sigma1 = 80, 20, 10 and sigma3 = -800, -50, -60 in the rockfill: slab
     !> extremes 700 (element 3) and -300 (element 3), rockfill 20 (element 5) and -60
-    !> (element 6), one element left out of each; singular nodes: node 1 alone.
+    !> (element 6), one element left out of each; singular nodes: node 1 alone. Slab
+    !> sections: uniform sigma_xx 900, 500, 700 kPa, N/h = sigma_xx (uniform stress): the
+    !> largest membrane stress outside the radius is 700 kPa, element 3's section.
     subroutine test_extremes(error)
         type(error_t), allocatable, intent(out) :: error
         type(model_t) :: model
@@ -167,7 +169,7 @@ contains
         type(body_extremes_t), allocatable :: ex(:)
         integer, allocatable :: nodes(:)
         real(dp), allocatable :: radius(:)
-        real(dp) :: xy(2, 12), principal(3, 6)
+        real(dp) :: xy(2, 12), principal(3, 6), stress(4, 4, 6)
         integer :: conn(4, 6), i
         ! Rows of 4 nodes at y = -1, 0, 0.5: rockfill below, slab above.
         do i = 0, 3
@@ -190,8 +192,11 @@ contains
         principal = 0.0_dp
         principal(1, :) = [900.0_dp, 500.0_dp, 700.0_dp, 80.0_dp, 20.0_dp, 10.0_dp]
         principal(2, :) = [-900.0_dp, -100.0_dp, -300.0_dp, -800.0_dp, -50.0_dp, -60.0_dp]
-        call slab_stresses(model, spread(spread([0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], 2, 4), 3, &
-                                         6), [(.true., i=1, 6)], slab)
+        ! Uniform sigma_xx of 900, 500 and 700 kPa in the slab elements (along their axis):
+        ! N/h = sigma_xx and M = 0 in each section (closed form of a uniform stress).
+        stress = 0.0_dp
+        stress(1, :, 1:3) = spread([900.0_dp, 500.0_dp, 700.0_dp], 1, 4)
+        call slab_stresses(model, stress, [(.true., i=1, 6)], slab)
         call body_extremes(model, principal, [(.true., i=1, 6)], [(.true., i=1, 6)], slab, &
                            ex, nodes, radius)
         call check(error, size(nodes), 1, 'one singular node')
@@ -205,6 +210,16 @@ contains
         if (allocated(error)) return
         call check(error, all([ex%max_sigma1, ex%min_sigma3] == &
                               [700.0_dp, 20.0_dp, -300.0_dp, -60.0_dp]), 'extreme values')
+        if (allocated(error)) return
+        ! Sections: the first (centre 0.56 m from node 1) is left out; the largest membrane
+        ! and fibre stress of the others is element 3's uniform 700 kPa, centre x = 2.5 m.
+        call check(error, ex(1)%max_membrane, 700.0_dp, 'slab membrane stress N/h', &
+                   rel=1e-9_dp)
+        if (allocated(error)) return
+        call check(error, ex(1)%max_fibre, 700.0_dp, 'slab fibre stress', rel=1e-9_dp)
+        if (allocated(error)) return
+        call check(error, slab%section_x(ex(1)%max_membrane_section), 2.5_dp, &
+                   'section of the largest N/h', rel=1e-9_dp)
     end subroutine test_extremes
 
     !> Sections of a slab cut along skewed lines (constructed case): 3 columns of 8 layers,

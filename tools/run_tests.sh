@@ -201,6 +201,9 @@ tool_checks "results format" python3 tools/check_results_format.py --cfrd "$cfrd
 # the stage's matrix (read back by scipy), and tools/factor_floor.c solves it (x = 1).
 tool_checks "matrix market" python3 tools/check_matrix_market.py --cfrd "$cfrd" \
     --workdir "$work/matrix-market"
+# The OpenMP element loops (issue 21): --threads 2 and OMP_NUM_THREADS=2 give the same bits as
+# --threads 1 on the x1 bonded and contact decks; the threads are started; usage errors.
+tool_checks "threads" python3 tools/check_threads.py --cfrd "$cfrd" --workdir "$work/threads"
 # The figures plot what the HDF5 files hold (tools/figures.py --data against h5py reads):
 # the joint deck alone, then the contact deck with the joint deck (both methods in one set).
 tool_checks "figures" python3 tools/check_figures.py --run "$cfrd" --workdir "$work/figures"

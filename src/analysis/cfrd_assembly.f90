@@ -3,6 +3,7 @@
 !> tangent stiffness and the internal forces through the one element interface.
 module cfrd_assembly
     use cfrd_kinds, only: dp
+    use cfrd_omp_threads, only: loop_threads
     use cfrd_error, only: error_t
     use cfrd_model, only: model_t, load_set_t, all_groups
     use cfrd_element, only: element_t
@@ -16,6 +17,19 @@ module cfrd_assembly
     public :: element_box_t, dof_map_t
     public :: make_elements, number_equations, load_set_forces, fill_forces
     public :: assemble_tangent, internal_forces, element_tangents, gather, active_nodes
+    public :: min_parallel
+
+    !> Elements per block of the parallel element loops: a block's contributions are
+    !> computed on the OpenMP threads into storage of their own, then added in element
+    !> order by one thread, so that every sum is taken in the same order for any thread
+    !> count (and any block size). With threads, few blocks, few joins [choice: 4096
+    !> element matrices, 8 MB; with 256 a 2-thread run on a loaded machine took 3.6 times
+    !> as long as 1 thread]; with one thread, blocks whose matrices stay in the cache
+    !> [choice: 128, 256 kB] (docs/performance.md (m)).
+    integer, parameter :: block_size = 4096, serial_block_size = 128
+    !> Fewer elements than this run on one thread: the threads' start would cost more
+    !> [choice].
+    integer, parameter :: min_parallel = 32
 
     !> One element implementation per element kind used by the mesh.
     type :: element_box_t
@@ -205,7 +219,9 @@ contains
     !> Assemble the tangent stiffness of the active elements at the given integration-point
     !> stresses and total strains (4, ngauss, nelem) and history (nhistory, ngauss, nelem)
     !> into `values`. With `tangents` (4, 4, ngauss, nelem) given, those matrices are used
-    !> instead of the material tangent (Newton's consistent tangent).
+    !> instead of the material tangent (Newton's consistent tangent). The element matrices
+    !> of a block of elements are computed on the OpenMP threads, then added in element
+    !> order by one thread: the same sums, in the same order, for any thread count.
     subroutine assemble_tangent(model, library, active, pattern, stress, strain, history, &
                                 values, tangents)
         type(model_t), intent(in) :: model
@@ -215,31 +231,70 @@ contains
         real(dp), intent(in) :: stress(:, :, :), strain(:, :, :), history(:, :, :)
         real(dp), intent(out) :: values(:)
         real(dp), intent(in), optional :: tangents(:, :, :, :)
-        real(dp) :: ke(16, 16), dmat(4, 4, 4)
-        integer :: e, nn, ng, nc
+        real(dp), allocatable :: ke(:, :, :)
+        integer, allocatable :: list(:)
+        integer :: first, last, k, nn, nb
         values = 0.0_dp
-        associate (mesh => model%mesh)
-            do e = 1, mesh%nelem
-                if (.not. active(e)) cycle
-                associate (element => library(mesh%kind(e))%element)
-                    nn = element%nodes()
-                    ng = element%gauss_points()
-                    nc = element%components()
-                    if (present(tangents)) then
-                        dmat(:, :, 1:ng) = tangents(:, :, 1:ng, e)
-                    else
-                        call element_tangents(model, e, stress(:, 1:ng, e), strain(:, 1:ng, e), &
-                                              history(1:nhistory, 1:ng, e), dmat(:, :, 1:ng))
-                    end if
-                    call element%stiffness(mesh%x(:, mesh%conn(1:nn, e)), &
-                                           dmat(1:nc, 1:nc, 1:ng), ke(1:2*nn, 1:2*nn))
-                    call assemble_element(pattern, values, e, ke(1:2*nn, 1:2*nn))
-                end associate
+        list = active_list(active)
+        nb = block_elements()
+        allocate (ke(16, 16, max(1, min(nb, size(list)))))
+        do first = 1, size(list), nb
+            last = min(first + nb - 1, size(list))
+            !$omp parallel do schedule(dynamic, 16) if (last - first >= min_parallel)
+            do k = first, last
+                call element_stiffness(model, library, list(k), stress, strain, history, &
+                                       ke(:, :, k - first + 1), tangents)
             end do
-        end associate
+            !$omp end parallel do
+            do k = first, last
+                nn = library(model%mesh%kind(list(k)))%element%nodes()
+                call assemble_element(pattern, values, list(k), ke(1:2*nn, 1:2*nn, k - first + 1))
+            end do
+        end do
     end subroutine assemble_tangent
 
-    !> Internal forces (2, nnode) of the active elements at the given stresses.
+    !> Elements per block of the element loops (block_size, serial_block_size).
+    integer function block_elements()
+        block_elements = block_size
+        if (loop_threads() == 1) block_elements = serial_block_size
+    end function block_elements
+
+    !> The active elements in order.
+    pure function active_list(active) result(list)
+        logical, intent(in) :: active(:)
+        integer, allocatable :: list(:)
+        integer :: e
+        list = pack([(e, e=1, size(active))], active)
+    end function active_list
+
+    !> The tangent stiffness ke (2 nn, 2 nn in a 16 x 16 array) of element e (assemble_tangent).
+    pure subroutine element_stiffness(model, library, e, stress, strain, history, ke, tangents)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        integer, intent(in) :: e
+        real(dp), intent(in) :: stress(:, :, :), strain(:, :, :), history(:, :, :)
+        real(dp), intent(out) :: ke(:, :)
+        real(dp), intent(in), optional :: tangents(:, :, :, :)
+        real(dp) :: dmat(4, 4, 4)
+        integer :: nn, ng, nc
+        associate (mesh => model%mesh, element => library(model%mesh%kind(e))%element)
+            nn = element%nodes()
+            ng = element%gauss_points()
+            nc = element%components()
+            if (present(tangents)) then
+                dmat(:, :, 1:ng) = tangents(:, :, 1:ng, e)
+            else
+                call element_tangents(model, e, stress(:, 1:ng, e), strain(:, 1:ng, e), &
+                                      history(1:nhistory, 1:ng, e), dmat(:, :, 1:ng))
+            end if
+            call element%stiffness(mesh%x(:, mesh%conn(1:nn, e)), dmat(1:nc, 1:nc, 1:ng), &
+                                   ke(1:2*nn, 1:2*nn))
+        end associate
+    end subroutine element_stiffness
+
+    !> Internal forces (2, nnode) of the active elements at the given stresses: the element
+    !> vectors of a block on the OpenMP threads, added in element order by one thread (as
+    !> assemble_tangent).
     subroutine internal_forces(model, library, active, stress, force, magnitude)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
@@ -248,24 +303,45 @@ contains
         real(dp), intent(out) :: force(:, :)
         !> The same sums of the elements' |forces|: the scale of the round-off in `force`
         real(dp), intent(out), optional :: magnitude(:, :)
-        real(dp) :: fe(16)
-        integer :: e, nn, ng, nc
+        real(dp), allocatable :: fe(:, :)
+        integer, allocatable :: list(:)
+        integer :: first, last, k, nn, nb
         force = 0.0_dp
         if (present(magnitude)) magnitude = 0.0_dp
-        associate (mesh => model%mesh)
-            do e = 1, mesh%nelem
-                if (.not. active(e)) cycle
-                associate (element => library(mesh%kind(e))%element)
-                    nn = element%nodes()
-                    ng = element%gauss_points()
-                    nc = element%components()
-                    call element%internal_force(mesh%x(:, mesh%conn(1:nn, e)), &
-                                                stress(1:nc, 1:ng, e), fe(1:2*nn))
-                    call scatter_add(model, e, nn, fe(1:2*nn), force)
-                    if (present(magnitude)) &
-                        call scatter_add(model, e, nn, abs(fe(1:2*nn)), magnitude)
-                end associate
+        list = active_list(active)
+        nb = block_elements()
+        allocate (fe(16, max(1, min(nb, size(list)))))
+        do first = 1, size(list), nb
+            last = min(first + nb - 1, size(list))
+            !$omp parallel do schedule(dynamic, 16) if (last - first >= min_parallel)
+            do k = first, last
+                call element_force(model, library, list(k), stress, fe(:, k - first + 1))
             end do
-        end associate
+            !$omp end parallel do
+            do k = first, last
+                nn = library(model%mesh%kind(list(k)))%element%nodes()
+                call scatter_add(model, list(k), nn, fe(1:2*nn, k - first + 1), force)
+                if (present(magnitude)) &
+                    call scatter_add(model, list(k), nn, abs(fe(1:2*nn, k - first + 1)), &
+                                     magnitude)
+            end do
+        end do
     end subroutine internal_forces
+
+    !> The internal force vector fe (2 nn of 16) of element e at the given stresses.
+    pure subroutine element_force(model, library, e, stress, fe)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        integer, intent(in) :: e
+        real(dp), intent(in) :: stress(:, :, :)
+        real(dp), intent(out) :: fe(:)
+        integer :: nn, ng, nc
+        associate (mesh => model%mesh, element => library(model%mesh%kind(e))%element)
+            nn = element%nodes()
+            ng = element%gauss_points()
+            nc = element%components()
+            call element%internal_force(mesh%x(:, mesh%conn(1:nn, e)), stress(1:nc, 1:ng, e), &
+                                        fe(1:2*nn))
+        end associate
+    end subroutine element_force
 end module cfrd_assembly

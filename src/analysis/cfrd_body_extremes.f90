@@ -88,20 +88,30 @@ contains
                     end if
                 end associate
             end do
-            ! The slab's largest fibre stress over the sections outside the radii.
+            ! The slab's largest fibre stress and membrane stress N/h over the sections
+            ! outside the radii.
             if (allocated(slab%section_s)) then
                 do j = 1, size(slab%section_s)
                     if (.not. slab%section_active(j)) cycle
                     c = [slab%section_x(j), slab%section_y(j)]
                     if (any([(norm2(c - mesh%x(:, nodes(k))) < radius(k), &
                               k=1, size(nodes))])) cycle
-                    if (extremes(1)%max_section == 0) then
-                        extremes(1)%max_section = j
-                    else if (fibre(j) <= extremes(1)%max_fibre) then
-                        cycle
-                    end if
-                    extremes(1)%max_section = j
-                    extremes(1)%max_fibre = fibre(j)
+                    associate (ex => extremes(1))
+                        if (ex%max_section == 0) then
+                            ex%max_section = j
+                            ex%max_fibre = fibre(j)
+                            ex%max_membrane_section = j
+                            ex%max_membrane = membrane(j)
+                        end if
+                        if (fibre(j) > ex%max_fibre) then
+                            ex%max_section = j
+                            ex%max_fibre = fibre(j)
+                        end if
+                        if (membrane(j) > ex%max_membrane) then
+                            ex%max_membrane_section = j
+                            ex%max_membrane = membrane(j)
+                        end if
+                    end associate
                 end do
             end if
         end associate
@@ -110,6 +120,11 @@ contains
             integer, intent(in) :: j
             fibre = max(slab%sigma_water(j), slab%sigma_cushion(j))
         end function fibre
+        !> The section's membrane (mean) stress N/h, kPa: the mean of its two fibre stresses.
+        real(dp) function membrane(j)
+            integer, intent(in) :: j
+            membrane = 0.5_dp*(slab%sigma_water(j) + slab%sigma_cushion(j))
+        end function membrane
     end subroutine body_extremes
 
     !> The slab's thickness at point p: that of the active section nearest to it (0 without

@@ -14,7 +14,7 @@ module cfrd_increment
     use cfrd_material_law, only: is_linear, update_history, material_update, &
                                  material_update_tangent, material_tangent, update_substeps
     use cfrd_assembly, only: element_box_t, dof_map_t, assemble_tangent, internal_forces, &
-                             gather
+                             gather, min_parallel
     use cfrd_contact, only: contact_t, contact_geometry
     use cfrd_contact_constraints, only: contact_forces, contact_accept, contact_shear_shape
     use cfrd_linear_system, only: system_t, new_system, factorise_values, factorise_contact, &
@@ -394,6 +394,10 @@ contains
             stress_end = state%stress
         end if
         stress_mid = stress_end
+        ! Each element's points on one OpenMP thread: no sums across elements (the same
+        ! bits for any thread count).
+        !$omp parallel do schedule(dynamic, 32) private(strain, ng, ig, start, creeping) &
+        !$omp if (model%mesh%nelem >= min_parallel)
         do e = 1, model%mesh%nelem
             if (.not. state%active(e)) cycle
             call element_strains(model, library, e, du, strain, ng)
@@ -427,6 +431,7 @@ contains
                                                      state%creep_stress(:, ig, e)
             end do
         end do
+        !$omp end parallel do
     end subroutine integrate_stress
 
     !> stress + D(stress) B du (forward Euler) at every point of the active elements.
@@ -450,6 +455,8 @@ contains
         real(dp), allocatable :: d(:, :, :, :)
         integer :: e, ig
         allocate (d(4, 4, ngauss, model%mesh%nelem), source=0.0_dp)
+        !$omp parallel do schedule(dynamic, 32) private(ig) &
+        !$omp if (model%mesh%nelem >= min_parallel)
         do e = 1, model%mesh%nelem
             if (.not. state%active(e)) cycle
             do ig = 1, library(model%mesh%kind(e))%element%gauss_points()
@@ -458,6 +465,7 @@ contains
                                       state%history(:, ig, e), d(:, :, ig, e))
             end do
         end do
+        !$omp end parallel do
     end function start_tangents
 
     !> The start stress of point ig of element e in the Newton iterations' stress updates.
@@ -482,6 +490,8 @@ contains
         real(dp) :: strain(4, ngauss)
         integer :: e, ng, ig
         allocate (c(4, 4, ngauss, model%mesh%nelem), source=0.0_dp)
+        !$omp parallel do schedule(dynamic, 32) private(strain, ng, ig) &
+        !$omp if (model%mesh%nelem >= min_parallel)
         do e = 1, model%mesh%nelem
             if (.not. state%active(e)) cycle
             call element_strains(model, library, e, du, strain, ng)
@@ -493,6 +503,7 @@ contains
                                              substeps(ig, e))
             end do
         end do
+        !$omp end parallel do
     end function consistent_tangents
 
     !> The sub-steps of each point's stress update over du under Newton
@@ -510,6 +521,8 @@ contains
         integer :: e, ng, ig
         allocate (n(ngauss, model%mesh%nelem), source=1)
         if (present(floor)) n = floor
+        !$omp parallel do schedule(dynamic, 32) private(strain, ng, ig) &
+        !$omp if (model%mesh%nelem >= min_parallel)
         do e = 1, model%mesh%nelem
             if (.not. state%active(e)) cycle
             call element_strains(model, library, e, du, strain, ng)
@@ -521,6 +534,7 @@ contains
                                                d_start(:, :, ig, e)))
             end do
         end do
+        !$omp end parallel do
     end function substep_counts
 
     !> |f_target - f_int(stress)| over the free dofs; `roundoff`, the residual that floating
@@ -576,6 +590,8 @@ contains
         real(dp), intent(in) :: du(:, :)
         real(dp) :: strain(4, ngauss)
         integer :: e, ig, ng
+        !$omp parallel do schedule(dynamic, 32) private(strain, ig, ng) &
+        !$omp if (model%mesh%nelem >= min_parallel)
         do e = 1, model%mesh%nelem
             if (.not. state%active(e)) cycle
             call element_strains(model, library, e, du, strain, ng)
@@ -585,6 +601,7 @@ contains
                                     state%stress(:, ig, e), state%history(:, ig, e))
             end do
         end do
+        !$omp end parallel do
     end subroutine accept_history
 
 end module cfrd_increment

@@ -464,7 +464,8 @@ contains
     end subroutine write_summary
 
     !> Extreme stresses per body (slab, rockfill) at centroids, the slab's largest fibre
-    !> stress, and a note naming the singular points left out and why (docs/theory.md s. 13).
+    !> and membrane stress N/h, and a note naming the singular points left out and why
+    !> (docs/theory.md s. 13).
     subroutine write_body_extremes(unit, model, stage)
         integer, intent(in) :: unit
         type(model_t), intent(in) :: model
@@ -484,6 +485,12 @@ contains
                         stage%slab%section_x(ex%max_section), &
                         stage%slab%section_y(ex%max_section), '  (section; ratio to f_t', &
                         stage%slab%crack_ratio(ex%max_section), ')'
+                    write (unit, '(a,es14.5,i12,2f14.3,a)') &
+                        '  '//ex%body//' max N/h, kPa     ', ex%max_membrane, &
+                        ex%max_membrane_section, &
+                        stage%slab%section_x(ex%max_membrane_section), &
+                        stage%slab%section_y(ex%max_membrane_section), &
+                        '  (section; membrane stress N/A, the mean of the two fibres)'
                 end if
             end associate
         end do
@@ -492,8 +499,9 @@ contains
             return
         end if
         write (unit, '(a,i0,a,i0,a)') '  left out: ', stage%extremes(1)%left_out, ' slab and ', &
-            stage%extremes(2)%left_out, ' rockfill elements with their centroid within two'// &
-            ' slab thicknesses of a slab node on a support, where the stresses are singular'// &
+            stage%extremes(2)%left_out, ' rockfill elements, and the slab sections (max fibre,'// &
+            ' max N/h), with their centroid within two slab thicknesses of a slab node on a'// &
+            ' support, where the stresses are singular'// &
             ' (they grow as the mesh is refined; docs/theory.md section 13):'
         write (unit, '(a,*(1x,i0))') '    nodes', stage%singular_nodes
         associate (x => model%mesh%x(:, stage%singular_nodes))

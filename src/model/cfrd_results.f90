@@ -126,6 +126,8 @@ module cfrd_results
         real(dp) :: min_sigma3 = 0.0_dp               !! kPa
         integer :: max_section = 0                    !! slab: section of the largest fibre stress
         real(dp) :: max_fibre = 0.0_dp                !! slab: kPa, the larger fibre stress there
+        integer :: max_membrane_section = 0           !! slab: section of the largest N/h
+        real(dp) :: max_membrane = 0.0_dp             !! slab: kPa, the membrane stress N/h there
         integer :: left_out = 0                       !! active elements left out
     end type body_extremes_t
     !> The perimetric joints (INTERFACE lines of PJOINT material; docs/theory.md section
