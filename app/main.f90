@@ -304,6 +304,10 @@ contains
             call add_stage(current%output, current%model, number, stage, error)
         end if
         if (allocated(error)) call move_alloc(error, current%write_error)
+        ! Increments accepted above ERRTOL (error control at its depth limit): even --quiet.
+        if (allocated(stage%warning)) write (error_unit, '(a,i0,a)') 'cfrd: warning: ', &
+            stage%unbalanced, ' increment(s) accepted out of balance, the first: '// &
+            stage%warning
         if (options%quiet) return
         write (output_unit, '(a,i0,a,i0,2a,i0,a,i0,a,i0,a,i0,a,es9.2,a,f8.3,a)') '  stage ', &
             number, '/', total, ': ', stage%name//', ', stage%increments, ' increments, ', &

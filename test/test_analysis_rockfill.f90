@@ -49,7 +49,8 @@ contains
                 new_unittest('eb_consistent_tangent', test_eb_tangent), &
                 new_unittest('newton_quadratic_rate', test_newton_rate), &
                 new_unittest('substep_update_kondner', test_substep_update), &
-                new_unittest('substep_consistent_tangent', test_substep_tangent) &
+                new_unittest('substep_consistent_tangent', test_substep_tangent), &
+                new_unittest('error_control_one_increment', test_error_control) &
                 ]
     end subroutine collect_analysis_rockfill
 
@@ -73,13 +74,19 @@ contains
     !> Load set 1: the cell pressure p3 on the side and the top; set 2: a deviator step dq on
     !> the top. Stages: set 1 in `ncell` increments, RESET, then `steps` times set 2 in `ninc`
     !> increments each (one result per deviator step).
-    subroutine triaxial(mat, p3, dq, steps, ninc, solver, eps1, epsv, error, unload_steps)
+    subroutine triaxial(mat, p3, dq, steps, ninc, solver, eps1, epsv, error, unload_steps, &
+                        errtol, residual, increments)
         type(material_t), intent(in) :: mat
         real(dp), intent(in) :: p3, dq
         integer, intent(in) :: steps, ninc, solver
         real(dp), allocatable, intent(out) :: eps1(:), epsv(:)
         type(error_t), allocatable, intent(out) :: error
         integer, intent(in), optional :: unload_steps   !! then this many steps of -dq
+        !> midpoint / Euler error control: ERRTOL (0: none; absent: the default)
+        real(dp), intent(in), optional :: errtol
+        !> the largest relative residual and the increments accepted of the deviator stages
+        real(dp), intent(out), optional :: residual
+        integer, intent(out), optional :: increments
         type(model_t) :: model
         type(results_t) :: results
         integer :: s, nunload, ncell
@@ -93,6 +100,7 @@ contains
         model%pa = pa
         model%solver = solver
         model%tolerance = 1.0e-11_dp
+        if (present(errtol)) model%error_tolerance = errtol
         model%fixed(1, [1, 4]) = .true.
         model%fixed(2, [1, 2]) = .true.
         deallocate (model%load_sets, model%stages)
@@ -118,6 +126,8 @@ contains
         call solve_linear_static(model, results, error)
         if (allocated(error)) return
         allocate (eps1(steps + nunload), epsv(steps + nunload))
+        if (present(residual)) residual = maxval(results%stages(3:)%max_residual)
+        if (present(increments)) increments = sum(results%stages(3:)%increments)
         do s = 1, steps + nunload
             associate (u => results%stages(2 + s)%displacement)
                 ! Compression positive: eps1 = -u_z(top)/H, eps_v = eps1 - 2 u_r(side)/R.
@@ -241,16 +251,16 @@ contains
         p = eb_parameters(table3_material(3), pa)
         qf = eb_failure_deviator(p, 500.0_dp)
         call triaxial(table3_material(3), 500.0_dp, 0.8_dp*qf, 1, 1024, solver_midpoint, &
-                      eps1, epsv, error)
+                      eps1, epsv, error, errtol=0.0_dp)
         if (allocated(error)) return
         reference = eps1(1)
         do k = 1, nk
             call triaxial(table3_material(3), 500.0_dp, 0.8_dp*qf, 1, 2**(k - 1), &
-                          solver_midpoint, eps1, epsv, error)
+                          solver_midpoint, eps1, epsv, error, errtol=0.0_dp)
             if (allocated(error)) return
             err_mid(k) = abs(eps1(1) - reference)
             call triaxial(table3_material(3), 500.0_dp, 0.8_dp*qf, 1, 2**(k - 1), &
-                          solver_euler, eps1, epsv, error)
+                          solver_euler, eps1, epsv, error, errtol=0.0_dp)
             if (allocated(error)) return
             err_euler(k) = abs(eps1(1) - reference)
         end do
@@ -267,6 +277,54 @@ contains
             if (allocated(error)) return
         end do
     end subroutine test_rates
+
+    !> Error control of the midpoint and Euler increments (docs/theory.md section 9, "Error
+    !> control"): the triaxial test of IIIB at 500 kPa loaded from the isotropic state to
+    !> q = 0.8 qf in ONE increment, against Kondner's hyperbola (closed form, as above).
+    !> Without control (ERRTOL = 0) the one increment is accepted and eps1 is far off
+    !> (midpoint: 64 % out of balance; Euler: in balance by construction, its error shows in
+    !> the midpoint update's residual); with ERRTOL = 0.005 the increment is halved until
+    !> every accepted increment's measure is below ERRTOL, and eps1 is within the order of
+    !> the tolerance:
+    !> at constant sigma3 a relative error e of the axial stress reached moves eps1 by about
+    !> e q / Et = e (1 - Rf S)^-1 times its secant share, 1/(1 - 0.85 * 0.8) = 3.1 at
+    !> S = 0.8, so 4 ERRTOL is the bound asserted.
+    subroutine test_error_control(error)
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), parameter :: errtol = 5.0e-3_dp
+        real(dp), allocatable :: eps1(:), epsv(:)
+        type(eb_params_t) :: p
+        real(dp) :: qf, ei, q, exact, residual, off
+        integer :: solver, increments
+        p = eb_parameters(table3_material(3), pa)
+        qf = eb_failure_deviator(p, 500.0_dp)
+        ei = eb_initial_modulus(p, 500.0_dp)
+        q = 0.8_dp*qf
+        exact = q/(ei*(1.0_dp - p%rf*q/qf))
+        do solver = solver_midpoint, solver_euler
+            call triaxial(table3_material(3), 500.0_dp, q, 1, 1, solver, eps1, epsv, error, &
+                          errtol=0.0_dp, residual=residual, increments=increments)
+            if (allocated(error)) return
+            off = abs(eps1(1)/exact - 1.0_dp)
+            write (*, '(a,i2,a,es10.3,a,es10.3,a,i5)') '  solver', solver, &
+                ', no control: eps1 off by', off, ', residual', residual, ', increments', &
+                increments
+            call check(error, off > 10.0_dp*errtol, &
+                       'without control the one increment should be far off')
+            if (allocated(error)) return
+            call triaxial(table3_material(3), 500.0_dp, q, 1, 1, solver, eps1, epsv, error, &
+                          errtol=errtol, residual=residual, increments=increments)
+            if (allocated(error)) return
+            off = abs(eps1(1)/exact - 1.0_dp)
+            write (*, '(a,i2,a,es10.3,a,es10.3,a,i5)') '  solver', solver, &
+                ', ERRTOL 0.005: eps1 off by', off, ', residual', residual, ', increments', &
+                increments
+            call check(error, residual <= errtol, 'a residual above ERRTOL was accepted')
+            if (allocated(error)) return
+            call check(error, eps1(1), exact, 'eps1 with error control', rel=4.0_dp*errtol)
+            if (allocated(error)) return
+        end do
+    end subroutine test_error_control
 
     !> Newton iterations (consistent tangent, tolerance 1e-11) on the triaxial test of IIIB at
     !> 500 kPa: the loading branch follows Kondner's hyperbola to 0.2 % and, after unloading

@@ -275,6 +275,14 @@ cases += [
 cases += [
  ("elastic-ft-negative", sub("   20000.0       0.3      20.0", "   20000.0       0.3      20.0   -2000.0"), "{f}:12:31-40: field FT of MATERIALS 1: expected a real >= 0 (kPa), found '-2000.0'"),
 ]
+# The error control of midpoint and Euler increments (issue 21): CONTROL's ERRCTL card.
+counts = "    6    2    1\n"
+cases += [
+ ("errctl-negative", sub(counts, counts + "ERRCTL         -0.01\n"), "{f}:5:11-20: field ERRTOL of CONTROL ERRCTL: expected a real with 0 <= ERRTOL <= 1 (0: no error control), found '-0.01'"),
+ ("errctl-word", sub(counts, counts + "ERRCTL         0.5 %\n"), "{f}:5:11-20: field ERRTOL of CONTROL ERRCTL: expected a real number, found '0.5 %'"),
+ ("errctl-depth", sub(counts, counts + "ERRCTL         0.005   21\n"), "{f}:5:21-25: field DEPTH of CONTROL ERRCTL: expected a number of halvings with 0 <= DEPTH <= 20, found '21'"),
+ ("errctl-twice", sub(counts, counts + "ERRCTL\nERRCTL         0.01\n"), "{f}:6: CONTROL takes one ERRCTL card (the first is at line 5)"),
+]
 for old in os.listdir(P):
     os.remove(P + old)
 for i, (name, deck, expect) in enumerate(cases, 1):

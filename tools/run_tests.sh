@@ -184,6 +184,10 @@ tool_checks "creep" python3 tools/check_creep.py --cfrd "$cfrd" --workdir "$work
 # The plinth and the perimetric joint (issue 22): two blocks against statics closed forms,
 # the CSV, HDF5 and listing agreeing, the --plinth decks of every interface method read.
 tool_checks "plinth" python3 tools/check_plinth.py --cfrd "$cfrd" --workdir "$work/plinth"
+# The error control of the midpoint increments (issue 21) on the x1 --plinth joint deck: every
+# accepted increment within ERRTOL, the same deck without control beyond it, exit 1 at DEPTH.
+tool_checks "error control" python3 tools/check_error_control.py --cfrd "$cfrd" \
+    --workdir "$work/errctl"
 tool_checks "tianshengqiao" python3 tools/check_tianshengqiao.py --run "$cfrd" \
     --workdir "$work/tianshengqiao"
 # The XDMF file read back through an independent reader (meshio) against the HDF5 datasets.

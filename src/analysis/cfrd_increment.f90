@@ -21,6 +21,7 @@ module cfrd_increment
                                   multiplier_scale
     use cfrd_active_set, only: solve_system
     use cfrd_stage_state, only: state_t, ngauss
+    use cfrd_error_control, only: out_of_tolerance, balance_error
     implicit none
     private
 
@@ -95,7 +96,8 @@ contains
     !> updated first (the paper's Step 6) and each solve iterates the active set; the contact
     !> state changes only when the increment is accepted.
     subroutine solve_increment(model, library, state, system, f_target, du_prescribed, &
-                               result, context, error)
+                               result, context, error, accepted_residual, may_reject, &
+                               unbalanced)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(inout) :: state
@@ -105,13 +107,20 @@ contains
         type(stage_result_t), intent(inout) :: result
         character(len=*), intent(in) :: context
         type(error_t), allocatable, intent(out) :: error
+        !> the relative residual of the increment accepted (MAX RESID's measure)
+        real(dp), intent(out), optional :: accepted_residual
+        !> midpoint / Euler: reject an increment above ERRTOL (default); false at the error
+        !> control's depth limit, where the stage driver accepts it with a warning
+        logical, intent(in), optional :: may_reject
+        !> accepted above ERRTOL (may_reject false)
+        logical, intent(out), optional :: unbalanced
         real(dp), allocatable :: du(:, :), stress_end(:, :, :), stress_mid(:, :, :)
         real(dp) :: residual, load_norm, recent, t0, floor
         real(dp), allocatable :: rhs_stress(:, :, :), d_start(:, :, :, :), f_end(:, :)
         integer, allocatable :: substeps(:, :), grown(:, :)
         integer :: iteration
         type(contact_t), allocatable :: contact
-        logical :: changed, searched
+        logical :: changed, searched, linear, reject
 
         load_norm = max(norm2(f_target), tiny(1.0_dp))
         system%viscous = 0.0_dp
@@ -121,7 +130,6 @@ contains
             call contact_geometry(model, state%active, contact, changed, searched)
             call contact_shear_shape(contact)
             result%stats%t_contact = result%stats%t_contact + (wall_seconds() - t0)
-            if (searched) result%stats%searches = result%stats%searches + 1
             if (changed) then
                 t0 = wall_seconds()
                 call new_system(model, library, state%active, system, error, contact, .true.)
@@ -143,11 +151,17 @@ contains
         call solve_out_of_balance(model, library, state, rhs_stress, f_target, du_prescribed, &
                                   system, du, result, context, error, contact)
         if (allocated(error)) return
-        if (model%solver == solver_euler .or. system%factorised_linear .or. &
-            (state%has_contact .and. all_linear(model, state%active))) then
+        linear = system%factorised_linear .or. &
+                 (state%has_contact .and. all_linear(model, state%active))
+        if (model%solver == solver_euler .or. linear) then
             ! Euler; or a linear law, for which the midpoint step would repeat the same solve.
-            call integrate_stress(model, library, state, du, stress_end, stress_mid, .false., &
-                                  creep_share=1.0_dp)
+            ! Forward Euler's own stresses balance the load (the update uses the solve's
+            ! tangent): under error control the stresses of the increment are the midpoint
+            ! update's, whose residual is the Euler / modified-Euler difference of Sloan
+            ! (1987), accepted with local extrapolation as there (docs/theory.md section 9).
+            call integrate_stress(model, library, state, du, stress_end, stress_mid, &
+                                  model%solver == solver_euler .and. &
+                                  model%error_tolerance > 0.0_dp, creep_share=1.0_dp)
         else
             ! Midpoint: stresses half-way, the tangent there, and the increment again.
             call integrate_stress(model, library, state, 0.5_dp*du, stress_mid, stress_end, &
@@ -263,6 +277,22 @@ contains
         if (.not. (residual < huge(1.0_dp))) then
             call fatal_error(error, context//': the solution is not finite', numerical_error)
             return
+        end if
+        ! Midpoint and Euler: an increment out of balance beyond ERRTOL is not accepted
+        ! (cfrd_error_control; the stage driver halves it). Not where every active law is
+        ! linear: the update is exact, and what residual there is (round-off against a load
+        ! that may pass through zero, the contact's) is no error of the step's size.
+        reject = .not. linear .and. out_of_tolerance(model, residual, floor/load_norm)
+        if (present(unbalanced)) unbalanced = reject
+        if (present(may_reject)) reject = reject .and. may_reject
+        if (reject) then
+            call balance_error(model, residual, context, error)
+            return
+        end if
+        if (present(accepted_residual)) accepted_residual = residual
+        ! Searches are counted for the increments accepted (a rejected one searches again).
+        if (state%has_contact) then
+            if (searched) result%stats%searches = result%stats%searches + 1
         end if
         state%u = state%u + du
         state%stress = stress_end

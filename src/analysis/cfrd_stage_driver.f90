@@ -27,6 +27,7 @@ module cfrd_stage_driver
     use cfrd_linear_system, only: system_t, new_system
     use cfrd_stage_state, only: state_t, ngauss
     use cfrd_increment, only: solve_increment
+    use cfrd_error_control, only: is_balance_error, halvings, unbalanced_warning, may_grow
     use cfrd_restart_carry, only: carry_of, restore_state
     implicit none
     private
@@ -335,7 +336,8 @@ contains
         integer, parameter :: max_cutbacks = 6, max_growth = 64
         real(dp), allocatable :: creep_before(:, :, :), wet_before(:, :, :)
         logical :: creeps, wets
-        real(dp) :: done, step, nominal, level
+        real(dp) :: done, step, nominal, level, residual
+        logical :: unbalanced
         real(dp), allocatable :: f_water(:, :)
         integer :: cuts, k
         character(len=:), allocatable :: context
@@ -379,7 +381,8 @@ contains
             end if
             call solve_increment(model, library, state, system, &
                                  f_start + f_water + stage_force*(done + step), &
-                                 du_stage*step, result, context, error)
+                                 du_stage*step, result, context, error, residual, &
+                                 halvings(step, nominal) < model%max_depth, unbalanced)
             if (creeps .or. wets) then
                 ! the step's creep and wetting are spent (or, after no convergence, undone)
                 if (allocated(error) .and. creeps) state%creep = creep_before
@@ -387,6 +390,15 @@ contains
                 state%creep_stress = 0.0_dp
             end if
             if (allocated(error)) then
+                ! Midpoint / Euler out of balance beyond ERRTOL: redo the increment in two
+                ! halves down to DEPTH halvings of the nominal one (cfrd_error_control).
+                if (is_balance_error(error)) then
+                    deallocate (error)
+                    result%cutbacks = result%cutbacks + 1
+                    step = 0.5_dp*step
+                    k = k - 1
+                    cycle
+                end if
                 if (index(error%message, 'no convergence') == 0) return
                 if (cuts == max_cutbacks) then
                     error%message = error%message//'; the increment cut back '// &
@@ -411,10 +423,17 @@ contains
                 k = k - 1
                 cycle
             end if
+            ! At the depth limit an increment above ERRTOL is accepted with a warning.
+            if (unbalanced) then
+                result%unbalanced = result%unbalanced + 1
+                if (.not. allocated(result%warning)) &
+                    result%warning = unbalanced_warning(model, context, residual, &
+                                                        halvings(step, nominal))
+            end if
             done = done + step
             result%increments = result%increments + 1
             cuts = 0
-            step = min(2.0_dp*step, nominal)
+            if (may_grow(model, residual)) step = min(2.0_dp*step, nominal)
         end do
     end subroutine run_increments
 

@@ -14,10 +14,10 @@ module cfrd_card_schema
 
     public :: card_schema_t, card_schemas
     public :: title_fields, loads_header_fields
-    public :: control_fields, effects_fields, node_fields, element_fields, material_fields, &
-              elastic_fields, eb_fields, eb_strength_fields, creep_fields, wetting_fields, &
-              goodman_fields, pjoint_fields, plinth_fields, interface_fields, slab_fields, &
-              stage_fields, load_stage_fields, &
+    public :: control_fields, effects_fields, errctl_fields, node_fields, element_fields, &
+              material_fields, elastic_fields, eb_fields, eb_strength_fields, creep_fields, &
+              wetting_fields, goodman_fields, pjoint_fields, plinth_fields, interface_fields, &
+              slab_fields, stage_fields, load_stage_fields, &
               water_stage_fields, wet_stage_fields, surface_fields, pair_fields, reservoir_fields, &
               gauge_fields, boundary_fields, gravity_fields, force_fields, pressure_fields
 
@@ -73,6 +73,13 @@ module cfrd_card_schema
                 expected='a real > 0'), &
         field_t('MAXIT', 71, 5, int_field, default=20.0_dp, lo=1.0_dp, &
                 expected='a number of iterations >= 1', found=found_value)]
+    !> ERRCTL: the error control of the midpoint and Euler increments (issue 21).
+    type(field_t), parameter :: errctl_fields(3) = [ &
+        field_t('KEYWORD', 1, 10, text_field), &
+        field_t('ERRTOL', 11, 10, real_field, default=5.0e-3_dp, lo=0.0_dp, hi=1.0_dp, &
+                expected='a real with 0 <= ERRTOL <= 1 (0: no error control)'), &
+        field_t('DEPTH', 21, 5, int_field, default=8.0_dp, lo=0.0_dp, hi=20.0_dp, &
+                expected='a number of halvings with 0 <= DEPTH <= 20', found=found_value)]
     !> EFFECTS: each switch's first word (blank too) is the effect on (value 1).
     type(field_t), parameter :: effects_fields(9) = [ &
         field_t('KEYWORD', 1, 10, text_field), &
@@ -328,9 +335,10 @@ contains
     !> Every card layout, named as in docs/cards.md (group section, card number).
     function card_schemas() result(cards)
         type(card_schema_t), allocatable :: cards(:)
-        allocate (cards(29))
+        allocate (cards(30))
         call set(1, 'CONTROL', 'CONTROL', 0, control_fields)
         call set(2, 'CONTROL EFFECTS', 'CONTROL', 0, effects_fields)
+        call set(30, 'CONTROL ERRCTL', 'CONTROL', 0, errctl_fields)
         call set(3, 'NODES', 'NODES', 0, node_fields)
         call set(4, 'ELEMENTS', 'ELEMENTS', 0, element_fields)
         call set(5, 'MATERIALS card 1', 'MATERIALS', 0, material_fields)

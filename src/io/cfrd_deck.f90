@@ -17,7 +17,7 @@ module cfrd_deck
                                 g_boundary, g_loads, g_stages, g_reservoir, g_gauges, &
                                 g_interface, g_slab, g_contact, g_plinth, ngroups, group_keywords, &
                                 valid_groups, group_required, load_keywords, stage_keywords, &
-                                contact_keywords, effects_keyword, creep_keyword, &
+                                contact_keywords, effects_keyword, errctl_keyword, creep_keyword, &
                                 wetting_keyword
     use cfrd_deck_control, only: read_control, apply_deck_effects
     use cfrd_deck_materials, only: read_materials
@@ -175,7 +175,8 @@ contains
                     cycle
                 end if
                 if (.not. ((current < 0 .and. any(load_keywords == word)) .or. &
-                           (current == g_control .and. word == effects_keyword) .or. &
+                           (current == g_control .and. (word == effects_keyword .or. &
+                                                        word == errctl_keyword)) .or. &
                            (current == g_materials .and. (word == creep_keyword .or. &
                                                           word == wetting_keyword)) .or. &
                            (current == g_stages .and. any(stage_keywords == word)) .or. &
@@ -192,7 +193,7 @@ contains
                                         "' in CONTACT: expected SURFACE or PAIR")
                     else if (current == g_control) then
                         call card_error(error, lines%file, card, "unknown card '"//word// &
-                                        "' in CONTROL: expected EFFECTS, or the card of "// &
+                                        "' in CONTROL: expected EFFECTS, ERRCTL or the card of "// &
                                         "numbers")
                     else
                         call card_error(error, lines%file, card, "unknown group '"//word// &

@@ -1,13 +1,15 @@
-!> CONTROL: the card of numbers (counts, analysis type, PA, GAMMAW, solver) and the EFFECTS
-!> card, read against the card schema; the effects applied once the whole deck is read.
+!> CONTROL: the card of numbers (counts, analysis type, PA, GAMMAW, solver), the EFFECTS
+!> card and the ERRCTL card, read against the card schema; the effects applied once the
+!> whole deck is read.
 module cfrd_deck_control
     use cfrd_error, only: error_t
     use cfrd_model, only: model_t, effects_t
     use cfrd_effects, only: apply_effects
     use cfrd_cards, only: card_t, get_text, field_error, card_error, to_text
-    use cfrd_card_schema, only: control_fields, effects_fields
+    use cfrd_card_schema, only: control_fields, effects_fields, errctl_fields
     use cfrd_card_reader, only: card_values_t, read_card
-    use cfrd_deck_groups, only: group_cards_t, counts_t, leading_word, effects_keyword
+    use cfrd_deck_groups, only: group_cards_t, counts_t, leading_word, effects_keyword, &
+                                errctl_keyword
     implicit none
     private
 
@@ -22,21 +24,19 @@ contains
         type(counts_t), intent(out) :: counts
         type(error_t), allocatable, intent(out) :: error
         type(card_values_t) :: v
-        integer :: i, numbers, effects
+        integer :: i, numbers, effects, errctl
         ! No data card means all defaults (a blank card cannot be written: blank lines are
-        ! skipped). The EFFECTS card may come before or after the card of numbers.
+        ! skipped). The EFFECTS and ERRCTL cards may come before or after the card of numbers.
         numbers = 0
         effects = 0
+        errctl = 0
         do i = 1, group%n
-            if (leading_word(group%cards(i)) == effects_keyword) then
-                if (effects > 0) then
-                    call card_error(error, file, group%cards(i), 'CONTROL takes one '// &
-                                    'EFFECTS card (the first is at line '// &
-                                    to_text(group%cards(effects)%line)//')')
-                    return
-                end if
-                effects = i
-            else
+            select case (leading_word(group%cards(i)))
+            case (errctl_keyword)
+                call take_once(errctl, errctl_keyword)
+            case (effects_keyword)
+                call take_once(effects, effects_keyword)
+            case default
                 if (numbers > 0) then
                     call card_error(error, file, group%cards(i), 'CONTROL takes one card '// &
                                     'of numbers and one EFFECTS card (the card of numbers '// &
@@ -44,11 +44,19 @@ contains
                     return
                 end if
                 numbers = i
-            end if
+            end select
+            if (allocated(error)) return
         end do
         if (effects > 0) then
             call read_effects(file, group%cards(effects), model%effects, error)
             if (allocated(error)) return
+        end if
+        if (errctl > 0) then
+            call read_card(file, group%cards(errctl), errctl_fields, 'CONTROL ERRCTL', v, &
+                           error, only=[2, 3])
+            if (allocated(error)) return
+            model%error_tolerance = v%x(2)
+            model%max_depth = v%int(3)
         end if
         if (numbers == 0) return
         associate (card => group%cards(numbers))
@@ -71,6 +79,19 @@ contains
         model%solver = v%int(9)
         model%tolerance = v%x(10)
         model%max_iterations = v%int(11)
+    contains
+        !> Card i is the keyword card `word`, of which CONTROL takes one: `first` its index.
+        subroutine take_once(first, word)
+            integer, intent(inout) :: first
+            character(len=*), intent(in) :: word
+            if (first > 0) then
+                call card_error(error, file, group%cards(i), 'CONTROL takes one '//word// &
+                                ' card (the first is at line '// &
+                                to_text(group%cards(first)%line)//')')
+                return
+            end if
+            first = i
+        end subroutine take_once
     end subroutine read_control
 
     !> The EFFECTS card: each field a keyword, blank for the default (the effect on, the

@@ -10,7 +10,8 @@ module cfrd_deck_groups
     public :: g_title, g_control, g_nodes, g_elements, g_materials, g_boundary, g_loads, &
               g_stages, g_reservoir, g_gauges, g_interface, g_slab, g_contact, g_plinth, ngroups
     public :: group_keywords, valid_groups, group_required, load_keywords, stage_keywords, &
-              contact_keywords, effects_keyword, creep_keyword, wetting_keyword, max_number
+              contact_keywords, effects_keyword, errctl_keyword, creep_keyword, wetting_keyword, &
+              max_number
 
     integer, parameter :: g_title = 1, g_control = 2, g_nodes = 3, g_elements = 4, &
                           g_materials = 5, g_boundary = 6, g_loads = 7, g_stages = 8, &
@@ -36,6 +37,8 @@ module cfrd_deck_groups
                                                            'PAIR']
     !> The card of CONTROL that lists the effects a deck asks for.
     character(len=*), parameter :: effects_keyword = 'EFFECTS'
+    !> The card of CONTROL that sets the error control of midpoint and Euler increments.
+    character(len=*), parameter :: errctl_keyword = 'ERRCTL'
     !> The card of MATERIALS that gives an EB material its creep (after its two cards).
     character(len=*), parameter :: creep_keyword = 'CREEP'
     !> ... and its wetting collapse (WETTING, after the two cards or the CREEP card).
@@ -85,8 +88,8 @@ contains
         if (card%text(1:1) == ' ' .and. .not. (word == 'END' .or. word == 'STOP' .or. &
             any(group_keywords == word) .or. any(load_keywords == word) .or. &
             any(stage_keywords == word) .or. any(contact_keywords == word) .or. &
-            word == effects_keyword .or. word == creep_keyword .or. &
-            word == wetting_keyword)) word = ''
+            word == effects_keyword .or. word == errctl_keyword .or. &
+            word == creep_keyword .or. word == wetting_keyword)) word = ''
     end function leading_word
 
     subroutine append_card(group, card)

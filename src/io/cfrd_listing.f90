@@ -209,6 +209,10 @@ contains
             ' since each node''s placement, RESETs added back; WATER: reservoir level at the'// &
             ' end; MAX RESID = |out-of-balance force| / |load| after an increment; S>=0.95:'// &
             ' elements near failure)'
+        if (any(summaries%unbalanced > 0)) write (unit, '(a,i0,a,i0,a)') '  WARNING: ', &
+            sum(summaries%unbalanced), ' increment(s) in ', count(summaries%unbalanced > 0), &
+            ' stage(s) accepted with MAX RESID above ERRTOL at the depth limit of the error'// &
+            ' control (CONTROL ERRCTL; each stage''s section names the first)'
     end subroutine write_stage_table
 
     !> Per gauge and stage: horizontal displacement, then settlement, since placement.
@@ -294,6 +298,9 @@ contains
         integer :: node, e
         real(dp) :: imbalance
         write (unit, '(/,a,/,a,i4,2a,/,a)') rule, ' STAGE', number, '   ', stage%name, rule
+        if (allocated(stage%warning)) write (unit, '(/,a,i0,a,/,3x,a)') ' WARNING: ', &
+            stage%unbalanced, ' increment(s) accepted out of balance above ERRTOL; the first:', &
+            stage%warning
         write (unit, '(/,a,/,a)') ' NODE DISPLACEMENTS (UX, UY since the last RESET; TOTAL:'// &
             ' since placement)', &
             '   NODE          X (m)          Y (m)         UX (m)         UY (m)'// &

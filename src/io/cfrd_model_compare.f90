@@ -35,6 +35,10 @@ contains
         call same_int(f, 'SOLVER (CONTROL)', old%solver, new%solver)
         call same_reals(f, 'the Newton tolerance (CONTROL)', [old%tolerance], [new%tolerance])
         call same_int(f, 'the Newton iterations (CONTROL)', old%max_iterations, new%max_iterations)
+        call same_reals(f, 'the error tolerance (CONTROL ERRCTL)', [old%error_tolerance], &
+                        [new%error_tolerance])
+        call same_int(f, 'the error control depth (CONTROL ERRCTL)', old%max_depth, &
+                      new%max_depth)
         associate (a => old%effects, b => new%effects)
             call same_flags(f, 'the EFFECTS card', [a%nonlinear_rockfill, a%unload, a%water, &
                        a%interface, a%friction, a%large_slip, a%phases, a%creep], &

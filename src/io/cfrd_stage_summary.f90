@@ -20,6 +20,7 @@ module cfrd_stage_summary
         character(len=:), allocatable :: date      !! calendar date, may be ''
         integer :: kind = 0
         integer :: increments = 0, factorisations = 0, iterations = 0, cutbacks = 0
+        integer :: unbalanced = 0   !! increments accepted above ERRTOL at the depth limit
         real(dp) :: max_residual = 0.0_dp          !! largest |residual| / |load|
         real(dp) :: wall_time = 0.0_dp             !! s
         real(dp) :: water_level = 0.0_dp           !! m (dry_level: empty)
@@ -53,6 +54,7 @@ contains
         summary%factorisations = stage%factorisations
         summary%iterations = stage%iterations
         summary%cutbacks = stage%cutbacks
+        summary%unbalanced = stage%unbalanced
         summary%max_residual = stage%max_residual
         summary%wall_time = stage%wall_time
         summary%water_level = stage%water_level

@@ -269,6 +269,11 @@ module cfrd_model
         integer :: solver = solver_midpoint
         real(dp) :: tolerance = 1.0e-6_dp     !! Newton: residual / load, SOLVER = 3
         integer :: max_iterations = 20        !! Newton iterations per increment
+        !> Midpoint / Euler error control (CONTROL fields ERRTOL, DEPTH): an increment whose
+        !> residual / load exceeds ERRTOL is halved and redone, at most DEPTH halvings below
+        !> the nominal increment (docs/theory.md section 9); ERRTOL = 0: no control.
+        real(dp) :: error_tolerance = 5.0e-3_dp
+        integer :: max_depth = 8
         type(effects_t) :: effects            !! the EFFECTS card (applied by the reader)
     end type model_t
 

@@ -180,6 +180,10 @@ module cfrd_results
         integer :: factorisations = 0              !! numeric factorisations in the stage
         integer :: iterations = 0                  !! Newton iterations in the stage
         integer :: cutbacks = 0                    !! increments halved after no convergence
+        !> increments accepted above ERRTOL at the depth limit of the error control, and the
+        !> warning of the first (docs/theory.md section 9, "Error control")
+        integer :: unbalanced = 0
+        character(len=:), allocatable :: warning
         real(dp) :: max_residual = 0.0_dp          !! largest |residual| / |load| after an increment
         !> |residual| / |load| of the stage's last increment solved by Newton iterations: after
         !> its midpoint step, then after each iteration (the rate of convergence, for tests)
