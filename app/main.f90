@@ -22,6 +22,8 @@ program cfrd_main
     use cfrd_memory, only: tune_allocator
     use cfrd_hdf5, only: results_format_t
     use cfrd_blas_threads, only: set_blas_threads
+    use cfrd_linear_solver, only: linear_solver_auto, linear_solver_cholmod, &
+                                  linear_solver_umfpack
     use cfrd_restart, only: restart_t, open_restart, restart_model, restart_stem, &
                             read_restart_stage, close_restart
     implicit none
@@ -38,6 +40,8 @@ program cfrd_main
         !> (0: its last completed stage)
         character(len=:), allocatable :: restart
         integer :: from_stage = 0
+        !> --linear-solver auto|cholmod|umfpack (cfrd_linear_solver)
+        integer :: linear_solver = linear_solver_auto
     end type options_t
 
     !> The deck being run and its result files. They live here, not in run_deck, because
@@ -114,6 +118,7 @@ contains
                 call read_deck(path, model, error)
             end if
             if (.not. allocated(error)) then
+                model%linear_solver = options%linear_solver
                 do i = 1, size(model%warnings)
                     write (error_unit, '(a)') 'cfrd: warning: '//who//': '// &
                         trim(model%warnings(i))
@@ -381,6 +386,23 @@ contains
                     end if
                     options%format%deflate = level
                 end block
+            case ('--linear-solver')
+                if (i < n) then
+                    i = i + 1
+                    call get_command_argument(i, arg, length)
+                end if
+                select case (trim(arg))
+                case ('auto')
+                    options%linear_solver = linear_solver_auto
+                case ('cholmod')
+                    options%linear_solver = linear_solver_cholmod
+                case ('umfpack')
+                    options%linear_solver = linear_solver_umfpack
+                case default
+                    call fatal_error(error, 'option --linear-solver needs auto, cholmod or '// &
+                                     'umfpack', usage_error)
+                    return
+                end select
             case ('--restart', '--from-stage')
                 if (i == n) then
                     call fatal_error(error, 'option '//trim(arg)//' needs a value', &
@@ -527,6 +549,12 @@ contains
             '  --legacy-listing', &
             '                also write DECK.lst: the legacy codes'' per-layer tables of', &
             '                node displacements and element stresses and stress levels', &
+            '  --linear-solver auto|cholmod|umfpack', &
+            '                the sparse solver: auto (default) CHOLMOD for the symmetric', &
+            '                positive definite matrices, UMFPACK for the rest and for', &
+            '                those CHOLMOD declines; cholmod: an error where it declines', &
+            '                a symmetric one; umfpack: UMFPACK for all (contact systems:', &
+            '                always UMFPACK)', &
             '  --version     print the version', &
             '  --help        print this help', &
             '', &

@@ -4,6 +4,7 @@
 !> reader insists on complete, consecutive numbering, as the legacy codes did.
 module cfrd_model
     use cfrd_kinds, only: dp
+    use cfrd_linear_solver, only: linear_solver_auto
     implicit none
     private
 
@@ -269,6 +270,9 @@ module cfrd_model
         integer :: solver = solver_midpoint
         real(dp) :: tolerance = 1.0e-6_dp     !! Newton: residual / load, SOLVER = 3
         integer :: max_iterations = 20        !! Newton iterations per increment
+        !> The sparse solver (cfrd --linear-solver; cfrd_linear_solver): not a deck card, as
+        !> the results are the same to round-off [choice]
+        integer :: linear_solver = linear_solver_auto
         type(effects_t) :: effects            !! the EFFECTS card (applied by the reader)
     end type model_t
 
