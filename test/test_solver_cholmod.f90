@@ -35,9 +35,9 @@ contains
 
     !> A bar of length L fixed at x = 0, axial stiffness EA, uniform axial load q, n linear
     !> elements with consistent nodal loads (q h / 2 per node); the exact solution is
-    !> u(x) = q (L x - x^2 / 2) / EA, and in 1-D the Galerkin solution of linear elements is
-    !> exact at the nodes (Strang & Fix, An Analysis of the Finite Element Method, 1973,
-    !> section 1.10): the reference. Equation i is node i (node 0 is fixed).
+    !> u(x) = q (L x - x^2 / 2) / EA, and in 1-D linear elements with consistent loads are
+    !> exact at the nodes (Tong 1969; docs/theory.md section 7, the confined column): the
+    !> reference. Equation i is node i (node 0 is fixed).
     subroutine bar(n, pattern, values, b, exact, error)
         integer, intent(in) :: n
         type(sparse_pattern_t), intent(out) :: pattern

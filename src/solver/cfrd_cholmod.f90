@@ -193,7 +193,7 @@ contains
         integer :: j, p, k
         integer(c_int) :: status
         call self%release()
-        self%handle = cfrd_cholmod_new(int(self%ordering, c_int))
+        self%handle = cfrd_cholmod_new(int(ordering_asked(self%ordering), c_int))
         if (.not. c_associated(self%handle)) then
             call fatal_error(error, 'CHOLMOD: out of memory', numerical_error)
             return
@@ -321,6 +321,25 @@ contains
         type(cholmod_t), intent(inout) :: self
         call self%release()
     end subroutine finalise
+
+    !> CFRD_CHOLMOD_ORDERING=amd|metis|nesdis (a measuring aid, like CFRD_WRITE_MATRIX;
+    !> docs/performance.md (m)): that ordering instead of `ordering`.
+    integer function ordering_asked(ordering) result(chosen)
+        integer, intent(in) :: ordering
+        character(len=16) :: text
+        integer :: length, status
+        chosen = ordering
+        call get_environment_variable('CFRD_CHOLMOD_ORDERING', text, length, status)
+        if (status /= 0) return
+        select case (text)
+        case ('amd')
+            chosen = ordering_amd
+        case ('metis')
+            chosen = ordering_metis
+        case ('nesdis')
+            chosen = ordering_nesdis
+        end select
+    end function ordering_asked
 
     pure function status_text(status) result(text)
         integer(c_int), intent(in) :: status
