@@ -197,6 +197,10 @@ tool_checks "results format" python3 tools/check_results_format.py --cfrd "$cfrd
 # the stage's matrix (read back by scipy), and tools/factor_floor.c solves it (x = 1).
 tool_checks "matrix market" python3 tools/check_matrix_market.py --cfrd "$cfrd" \
     --workdir "$work/matrix-market"
+# Issue 21: CHOLMOD for the SPD systems agrees with UMFPACK, the contact systems stay with
+# UMFPACK, --linear-solver's usage errors (tools/check_linear_solver.py).
+tool_checks "linear solver" python3 tools/check_linear_solver.py --cfrd "$cfrd" \
+    --workdir "$work/linear-solver"
 # The figures plot what the HDF5 files hold (tools/figures.py --data against h5py reads):
 # the joint deck alone, then the contact deck with the joint deck (both methods in one set).
 tool_checks "figures" python3 tools/check_figures.py --run "$cfrd" --workdir "$work/figures"

@@ -16,7 +16,7 @@ module cfrd_linear_solver
     implicit none
     private
 
-    public :: linear_solver_t, linear_solver_name
+    public :: linear_solver_t
     public :: linear_solver_auto, linear_solver_cholmod, linear_solver_umfpack
 
     !> --linear-solver: CHOLMOD for the symmetric positive definite matrices and UMFPACK for
@@ -54,20 +54,6 @@ module cfrd_linear_solver
     end type linear_solver_t
 
 contains
-
-    !> The option's word for a choice.
-    pure function linear_solver_name(choice) result(name)
-        integer, intent(in) :: choice
-        character(len=:), allocatable :: name
-        select case (choice)
-        case (linear_solver_cholmod)
-            name = 'cholmod'
-        case (linear_solver_umfpack)
-            name = 'umfpack'
-        case default
-            name = 'auto'
-        end select
-    end function linear_solver_name
 
     !> The choice (linear_solver_auto, _cholmod, _umfpack) and whether the system's
     !> matrices may be positive definite at all (false with contact multipliers).
