@@ -143,7 +143,7 @@ def main(argv=None):
                      ratio(med["new"]["fact"], med["baseline"]["fact"]),
                      f"{last['cholmod']:.0f}/{last['factorisations']:.0f}"
                      if last["cholmod"] is not None else "-",
-                     "AGREE" if ok else "DIFFER: " + verdict))
+                     verdict))
     header = ("deck", "load before each run", "user s, baseline", "user s, new", "user ratio",
               "analysis s, baseline", "analysis s, new", "analysis ratio",
               "factorisation s, baseline", "factorisation s, new", "factorisation ratio",
