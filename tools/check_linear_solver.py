@@ -8,7 +8,8 @@ Checks, each printing PASS or FAIL:
   - the x1 Tianshengqiao-I bonded deck (midpoint: every tangent symmetric positive definite)
     by `--linear-solver auto` agrees with `--linear-solver umfpack` (reference: UMFPACK's LU,
     another library's factorisation of the same matrices) to 1e-8 of each quantity's largest
-    value (tools/compare.py); the listing of auto counts every factorisation as CHOLMOD's,
+    value (tools/compare.py), the stress levels to the regression suite's 1e-4 (STRESS_LEVEL
+    below); the listing of auto counts every factorisation as CHOLMOD's,
     none declined; that of umfpack none;
   - the same deck under `--linear-solver cholmod` runs (exit 0);
   - the x1 contact deck (saddle-point systems) makes no CHOLMOD factorisation under auto;
@@ -24,6 +25,11 @@ from cfrdtools import runner
 from cfrdtools.checks import Checks, fresh, parser
 
 DECK = "inputs/tianshengqiao-x1.dat"
+# The stress levels to tools/regression.py's NONLINEAR tolerance (1e-4 of the largest): near
+# failure they amplify the factorisation's round-off (docs/performance.md (m): the base binary
+# with two BLAS threads moves them by 4e-7 on x4, UMFPACK against itself; the debug build
+# moves this deck's element 408 by 1.03e-8 of the largest).
+STRESS_LEVEL = "0,1e-4max"
 CONTACT = "inputs/tianshengqiao-x1-contact.dat"
 
 
@@ -51,10 +57,11 @@ def main():
     stems = {}
     for choice in ("auto", "umfpack", "cholmod"):
         done, stems[choice] = run(cfrd, work, choice, DECK, "--linear-solver", choice)
-        check(f"runs-{choice}", done.returncode == 0,
-              f"exit {done.returncode} {done.stderr.strip()[:200]}")
+        check(f"runs-{choice}", done.returncode == 0, f"exit {done.returncode}" +
+              (f" {done.stderr.strip()[:200]}" if done.returncode else ""))
     status, text = runner.tool("compare.py", stems["umfpack"] + ".h5", stems["auto"] + ".h5",
-                               "--rtol", "0", "--atol", "1e-8max")
+                               "--rtol", "0", "--atol", "1e-8max", "--tol",
+                               f"stress_level={STRESS_LEVEL}")
     last = [ln for ln in text.splitlines() if ln.strip()][-1:] or ["(no output)"]
     check("cholmod-agrees-with-umfpack", status == 0, last[0])
     counts = {c: solver_counts(stems[c] + ".out") for c in ("auto", "umfpack")}
