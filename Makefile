@@ -98,10 +98,15 @@ fuzz: build
 	  --workdir build/fuzz/run
 
 ## bench: timing figures (see docs/performance.md)
-## and then the accuracy-cost study (make accuracy, below)
+## and then the accuracy-cost study (make accuracy, below).
+## make bench BASELINE=OLD/cfrd: instead, before and after in one run: OLD and bin/cfrd on the
+## x4 bonded, joint and thin decks (midpoint, Newton), alternately, 3 rounds, the ratios of
+## user, analysis and factorisation time and the results' agreement to 1e-8
+## (tools/bench_baseline.py; BENCH_FLAGS="--rounds 1 --solvers midpoint" and so on)
 bench: build
-	@python3 tools/bench.py
-	@$(MAKE) --no-print-directory accuracy
+	@if [ -n "$(BASELINE)" ]; then \
+	  python3 tools/bench_baseline.py --baseline "$(BASELINE)" --cfrd bin/cfrd $(BENCH_FLAGS); \
+	else python3 tools/bench.py && $(MAKE) --no-print-directory accuracy; fi
 
 ## floor: numeric factorisation of UMFPACK against CHOLMOD supernodal (AMD, METIS, NESDIS) on
 ## the matrix cfrd factorises first in the last stage of the x4 bonded, joint and thin decks,

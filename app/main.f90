@@ -23,6 +23,8 @@ program cfrd_main
     use cfrd_hdf5, only: results_format_t
     use cfrd_blas_threads, only: set_blas_threads
     use cfrd_omp_threads, only: set_omp_threads
+    use cfrd_linear_solver, only: linear_solver_auto, linear_solver_cholmod, &
+                                  linear_solver_umfpack
     use cfrd_restart, only: restart_t, open_restart, restart_model, restart_stem, &
                             read_restart_stage, close_restart
     implicit none
@@ -41,6 +43,8 @@ program cfrd_main
         integer :: from_stage = 0
         !> --threads N: the OpenMP threads of the element loops (0: OMP_NUM_THREADS, else 1)
         integer :: threads = 0
+        !> --linear-solver auto|cholmod|umfpack (cfrd_linear_solver)
+        integer :: linear_solver = linear_solver_auto
     end type options_t
 
     !> The deck being run and its result files. They live here, not in run_deck, because
@@ -118,6 +122,7 @@ contains
                 call read_deck(path, model, error)
             end if
             if (.not. allocated(error)) then
+                model%linear_solver = options%linear_solver
                 do i = 1, size(model%warnings)
                     write (error_unit, '(a)') 'cfrd: warning: '//who//': '// &
                         trim(model%warnings(i))
@@ -380,6 +385,23 @@ contains
                 call next_number(i, n, 1, 1024, options%threads, error, &
                                  'option --threads needs a number of threads from 1 to 1024')
                 if (allocated(error)) return
+            case ('--linear-solver')
+                if (i < n) then
+                    i = i + 1
+                    call get_command_argument(i, arg, length)
+                end if
+                select case (trim(arg))
+                case ('auto')
+                    options%linear_solver = linear_solver_auto
+                case ('cholmod')
+                    options%linear_solver = linear_solver_cholmod
+                case ('umfpack')
+                    options%linear_solver = linear_solver_umfpack
+                case default
+                    call fatal_error(error, 'option --linear-solver needs auto, cholmod or '// &
+                                     'umfpack', usage_error)
+                    return
+                end select
             case ('--restart', '--from-stage')
                 if (i == n) then
                     call fatal_error(error, 'option '//trim(arg)//' needs a value', &
@@ -556,6 +578,12 @@ contains
             '  --legacy-listing', &
             '                also write DECK.lst: the legacy codes'' per-layer tables of', &
             '                node displacements and element stresses and stress levels', &
+            '  --linear-solver auto|cholmod|umfpack', &
+            '                the sparse solver: auto (default) CHOLMOD for the symmetric', &
+            '                positive definite matrices, UMFPACK for the rest and for', &
+            '                those CHOLMOD declines; cholmod: an error where it declines', &
+            '                a symmetric one; umfpack: UMFPACK for all (contact systems:', &
+            '                always UMFPACK)', &
             '  --version     print the version', &
             '  --help        print this help', &
             '', &

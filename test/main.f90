@@ -6,6 +6,7 @@ program cfrd_tests
     use test_io_deck, only: collect_io_deck
     use test_io_card_schema, only: collect_io_card_schema
     use test_solver_sparse, only: collect_solver_sparse
+    use test_solver_cholmod, only: collect_solver_cholmod
     use test_elements_quad4, only: collect_elements_quad4
     use test_analysis_verification, only: collect_analysis_verification
     use test_io_results, only: collect_io_results
@@ -44,6 +45,10 @@ program cfrd_tests
     if (wanted('solver_sparse')) then
         call collect_solver_sparse(tests)
         call run_suite('solver_sparse', tests, only_test, npass, nfail)
+    end if
+    if (wanted('solver_cholmod')) then
+        call collect_solver_cholmod(tests)
+        call run_suite('solver_cholmod', tests, only_test, npass, nfail)
     end if
     if (wanted('elements_quad4')) then
         call collect_elements_quad4(tests)

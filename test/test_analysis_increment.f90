@@ -114,7 +114,7 @@ contains
         call check(error, info, 0, 'dgesv')
         if (allocated(error)) return
         call check(error, maxval(abs(solution - reference)), 0.0_dp, &
-                   'UMFPACK against dense LU, max |x - x_lapack|', &
+                   'sparse solve (CHOLMOD) against dense LU, max |x - x_lapack|', &
                    abs=1.0e-12_dp*maxval(abs(reference)))
         call system%solver%release()
     end subroutine test_linear_system

@@ -204,6 +204,10 @@ tool_checks "matrix market" python3 tools/check_matrix_market.py --cfrd "$cfrd" 
 # The OpenMP element loops (issue 21): --threads 2 and OMP_NUM_THREADS=2 give the same bits as
 # --threads 1 on the x1 bonded and contact decks; the threads are started; usage errors.
 tool_checks "threads" python3 tools/check_threads.py --cfrd "$cfrd" --workdir "$work/threads"
+# Issue 21: CHOLMOD for the SPD systems agrees with UMFPACK, the contact systems stay with
+# UMFPACK, --linear-solver's usage errors (tools/check_linear_solver.py).
+tool_checks "linear solver" python3 tools/check_linear_solver.py --cfrd "$cfrd" \
+    --workdir "$work/linear-solver"
 # The figures plot what the HDF5 files hold (tools/figures.py --data against h5py reads):
 # the joint deck alone, then the contact deck with the joint deck (both methods in one set).
 tool_checks "figures" python3 tools/check_figures.py --run "$cfrd" --workdir "$work/figures"

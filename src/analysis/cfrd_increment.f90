@@ -172,17 +172,20 @@ contains
             call solve_out_of_balance(model, library, state, rhs_stress, f_target, &
                                       du_prescribed, system, du, result, context, error, contact)
             if (allocated(error)) return
-            call integrate_stress(model, library, state, du, stress_end, stress_mid, .true., &
-                                  creep_share=1.0_dp)
+            if (model%solver == solver_newton) then
+                ! The counts first, so that the predictor's stresses are updated once (with
+                ! one sub-step a point's update is the plain midpoint one, bit for bit).
+                call newton_start(model, library, state, du, d_start, substeps)
+                call integrate_stress(model, library, state, du, stress_end, stress_mid, &
+                                      .true., creep_share=1.0_dp, d_start=d_start, &
+                                      substeps=substeps)
+            else
+                call integrate_stress(model, library, state, du, stress_end, stress_mid, &
+                                      .true., creep_share=1.0_dp)
+            end if
         end if
-        if (model%solver == solver_newton) then
-            ! The start tangents D(sigma) of the stress update, the same in every iteration,
-            ! and the stress update in sub-steps where one step would pass the limit point
-            ! of the midpoint rule (docs/theory.md section 9, "Sub-steps").
-            d_start = start_tangents(model, library, state)
-            ! The counts for twice the predictor's increment: the corrections often take a
-            ! point's strain increment past the predictor's [choice].
-            substeps = substep_counts(model, library, state, 2.0_dp*du, d_start)
+        if (model%solver == solver_newton .and. .not. allocated(substeps)) then
+            call newton_start(model, library, state, du, d_start, substeps)
             if (any(substeps > 1)) &
                 call integrate_stress(model, library, state, du, stress_end, stress_mid, &
                                       .true., creep_share=1.0_dp, d_start=d_start, &
@@ -505,6 +508,22 @@ contains
         end do
         !$omp end parallel do
     end function consistent_tangents
+
+    !> The start tangents D(sigma) of the Newton iterations' stress updates, the same in
+    !> every iteration, and the sub-steps of each point's update where one step would pass
+    !> the limit point of the midpoint rule (docs/theory.md section 9, "Sub-steps"): the
+    !> counts for twice the predictor's increment du, as the corrections often take a
+    !> point's strain increment past the predictor's [choice].
+    subroutine newton_start(model, library, state, du, d_start, substeps)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        type(state_t), intent(in) :: state
+        real(dp), intent(in) :: du(:, :)
+        real(dp), allocatable, intent(out) :: d_start(:, :, :, :)
+        integer, allocatable, intent(out) :: substeps(:, :)
+        d_start = start_tangents(model, library, state)
+        substeps = substep_counts(model, library, state, 2.0_dp*du, d_start)
+    end subroutine newton_start
 
     !> The sub-steps of each point's stress update over du under Newton
     !> (cfrd_material_law: update_substeps), at least `floor` (the counts the increment's

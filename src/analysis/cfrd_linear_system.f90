@@ -11,7 +11,7 @@ module cfrd_linear_system
     use cfrd_model, only: model_t
     use cfrd_results, only: stage_result_t
     use cfrd_sparse, only: sparse_pattern_t, build_pattern, assemble_element
-    use cfrd_umfpack, only: umfpack_t
+    use cfrd_linear_solver, only: linear_solver_t
     use cfrd_matrix_market, only: write_matrix_if_asked
     use cfrd_assembly, only: element_box_t, dof_map_t, number_equations
     use cfrd_contact, only: contact_t, contact_slip, contact_stick
@@ -28,10 +28,9 @@ module cfrd_linear_system
     type :: system_t
         type(dof_map_t) :: dofmap
         type(sparse_pattern_t) :: pattern
-        type(umfpack_t) :: solver
+        type(linear_solver_t) :: solver    !! CHOLMOD or UMFPACK (cfrd_linear_solver)
         real(dp), allocatable :: values(:)
         logical :: factorised_linear = .false.   !! a constant tangent is factorised already
-        logical :: analysed = .false.            !! the symbolic factorisation exists
         !> With contact: the tangent K alone (the contact rows are added per active set),
         !> and the scale of the multipliers (a stiffness per length, docs/theory.md s. 14)
         real(dp), allocatable :: k_values(:)
@@ -67,6 +66,7 @@ contains
         integer, allocatable :: dof_ptr(:), dofs(:), more(:)
         integer :: c, g, k, nelem, pos
         call system%solver%release()
+        call system%solver%configure(model%linear_solver, .not. has_contact)
         call number_equations(model, library, active, system%dofmap)
         if (has_contact) then
             nelem = model%mesh%nelem
@@ -111,7 +111,6 @@ contains
         if (allocated(system%values)) deallocate (system%values)
         allocate (system%values(system%pattern%nnz), source=0.0_dp)
         system%factorised_linear = .false.
-        system%analysed = .false.
         system%scale_given = .false.
     end subroutine new_system
 
@@ -253,38 +252,51 @@ contains
         end subroutine mechanism_hint
     end subroutine factorise_contact
 
-    !> Factorise system%values (the symbolic phase once per pattern).
+    !> Factorise system%values (the symbolic phase once per pattern and library): by
+    !> CHOLMOD when the matrix is symmetric positive definite, else by UMFPACK
+    !> (cfrd_linear_solver); a matrix CHOLMOD declines is factorised by UMFPACK, counted.
     subroutine factorise_values(system, result, context, error)
         type(system_t), intent(inout) :: system
         type(stage_result_t), intent(inout) :: result
         character(len=*), intent(in) :: context
         type(error_t), allocatable, intent(out) :: error
         real(dp) :: t1
+        logical :: declined
         ! CFRD_WRITE_MATRIX (a measuring aid, off by default): before the clock starts
         call write_matrix_if_asked(system%pattern, system%values, context, &
                                    result%factorisations)
         t1 = wall_seconds()
-        if (.not. system%analysed) then
-            ! Symbolic factorisation once per pattern (after the first assembly, so that
-            ! UMFPACK sees the values it orders for).
-            call system%solver%analyse(system%pattern, system%values, error)
-            if (allocated(error)) then
-                error%message = context//': '//error%message
-                return
-            end if
-            system%analysed = .true.
-            result%stats%t_symbolic = result%stats%t_symbolic + (wall_seconds() - t1)
-            result%stats%analyses = result%stats%analyses + 1
-            t1 = wall_seconds()
-        end if
-        call system%solver%factorise(system%pattern, system%values, error)
+        call system%solver%choose(system%pattern, system%values, error)
         if (allocated(error)) then
             error%message = context//': '//error%message
             return
         end if
+        do
+            if (.not. system%solver%is_analysed()) then
+                ! Symbolic factorisation once per pattern (after the first assembly, so that
+                ! UMFPACK sees the values it orders for).
+                call system%solver%analyse(system%pattern, system%values, error)
+                if (allocated(error)) then
+                    error%message = context//': '//error%message
+                    return
+                end if
+                result%stats%t_symbolic = result%stats%t_symbolic + (wall_seconds() - t1)
+                result%stats%analyses = result%stats%analyses + 1
+                t1 = wall_seconds()
+            end if
+            call system%solver%factorise(system%pattern, system%values, declined, error)
+            if (allocated(error)) then
+                error%message = context//': '//error%message
+                return
+            end if
+            if (.not. declined) exit
+            ! not positive definite for CHOLMOD: the same matrix to UMFPACK
+            result%stats%cholesky_declined = result%stats%cholesky_declined + 1
+        end do
         result%stats%t_numeric = result%stats%t_numeric + (wall_seconds() - t1)
         result%stats%rcond = system%solver%rcond()
         result%stats%lu_nnz = system%solver%factor_nonzeros()
+        if (system%solver%is_cholesky()) result%stats%cholesky = result%stats%cholesky + 1
         result%factorisations = result%factorisations + 1
     end subroutine factorise_values
 

@@ -252,6 +252,8 @@ contains
             s%lu_nnz = int_attribute(id, 'lu_nnz')
             s%patterns = int_attribute(id, 'patterns')
             s%analyses = int_attribute(id, 'symbolic_factorisations')
+            s%cholesky = int_attribute(id, 'cholesky')
+            s%cholesky_declined = int_attribute(id, 'cholesky_declined')
             s%updates = int_attribute(id, 'updates')
             s%updates_declined = int_attribute(id, 'updates_declined')
             s%contact_iterations = int_attribute(id, 'contact_iterations')

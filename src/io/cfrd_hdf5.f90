@@ -297,6 +297,8 @@ contains
         call attr_int(solver_id, 'patterns', stage%stats%patterns, st)
         call attr_int(solver_id, 'symbolic_factorisations', stage%stats%analyses, st)
         call attr_int(solver_id, 'numeric_factorisations', stage%factorisations, st)
+        call attr_int(solver_id, 'cholesky', stage%stats%cholesky, st)
+        call attr_int(solver_id, 'cholesky_declined', stage%stats%cholesky_declined, st)
         call attr_int(solver_id, 'updates', stage%stats%updates, st)
         call attr_int(solver_id, 'updates_declined', stage%stats%updates_declined, st)
         call attr_int(solver_id, 'contact_iterations', stage%stats%contact_iterations, st)

@@ -353,7 +353,7 @@ contains
             write (unit, '(/,a,t40,a12,a14)') ' SOLVER', 'last stage', 'all stages'
             write (unit, '(a,t40,i12)') '   equations', st%neq
             write (unit, '(a,t40,i12)') '   matrix nonzeros', st%nnz
-            write (unit, '(a,t40,i12)') '   factor nonzeros (L+U)', st%lu_nnz
+            write (unit, '(a,t40,i12)') '   factor nonzeros (L+U, or L)', st%lu_nnz
             write (unit, '(a,t40,es12.3)') '   reciprocal condition estimate', st%rcond
             write (unit, counts) '   increments', summaries(size(summaries))%increments, &
                 sum(summaries%increments)
@@ -361,6 +361,10 @@ contains
             write (unit, counts) '   symbolic factorisations', st%analyses, sum(all%analyses)
             write (unit, counts) '   numeric factorisations', &
                 summaries(size(summaries))%factorisations, sum(summaries%factorisations)
+            write (unit, counts) '     of which CHOLMOD (L L^T)', st%cholesky, &
+                sum(all%cholesky)
+            write (unit, counts) '   CHOLMOD declined (not pos. def.)', &
+                st%cholesky_declined, sum(all%cholesky_declined)
             if (contact) then
                 write (unit, counts) '   factorisation updates', st%updates, sum(all%updates)
                 write (unit, counts) '   contact iterations (solves)', st%contact_iterations, &

@@ -4,6 +4,7 @@
 !> reader insists on complete, consecutive numbering, as the legacy codes did.
 module cfrd_model
     use cfrd_kinds, only: dp
+    use cfrd_linear_solver, only: linear_solver_auto
     implicit none
     private
 
@@ -274,6 +275,9 @@ module cfrd_model
         !> the nominal increment (docs/theory.md section 9); ERRTOL = 0: no control.
         real(dp) :: error_tolerance = 5.0e-3_dp
         integer :: max_depth = 8
+        !> The sparse solver (cfrd --linear-solver; cfrd_linear_solver): not a deck card, as
+        !> the results are the same to round-off [choice]
+        integer :: linear_solver = linear_solver_auto
         type(effects_t) :: effects            !! the EFFECTS card (applied by the reader)
     end type model_t
 

@@ -15,24 +15,30 @@ module cfrd_results
         integer :: nnz = 0                 !! stored nonzeros of the matrix
         real(dp) :: t_pattern = 0.0_dp     !! s, sparse pattern
         real(dp) :: t_assembly = 0.0_dp    !! s, stiffness and load assembly
-        real(dp) :: t_symbolic = 0.0_dp    !! s, UMFPACK symbolic factorisation
-        real(dp) :: t_numeric = 0.0_dp     !! s, UMFPACK numeric factorisation
+        real(dp) :: t_symbolic = 0.0_dp    !! s, symbolic factorisation (CHOLMOD, UMFPACK)
+        real(dp) :: t_numeric = 0.0_dp     !! s, numeric factorisation (CHOLMOD, UMFPACK)
         !> s, low-rank updates of a factorisation (contact rows changed, umfpack_t%update_rows)
         real(dp) :: t_update = 0.0_dp
         real(dp) :: t_solve = 0.0_dp       !! s, triangular solves
         !> s, contact search and geometry (contact_geometry: bucket search, couplings, gaps)
         !> and the active-set updates after each solve
         real(dp) :: t_contact = 0.0_dp
-        real(dp) :: rcond = 0.0_dp         !! UMFPACK's reciprocal condition estimate
+        real(dp) :: rcond = 0.0_dp         !! the library's reciprocal condition estimate
         integer :: patterns = 0            !! sparse patterns built (FILL; contact: couplings)
-        integer :: analyses = 0            !! UMFPACK symbolic factorisations (orderings)
+        integer :: analyses = 0            !! symbolic factorisations (orderings)
         !> matrices solved through an earlier factorisation by a low-rank row update instead
         !> of a numeric factorisation of their own (contact active-set iterations)
         integer :: updates = 0
         !> updated solves that missed UMFPACK's accuracy, so that the matrix was factorised
         integer :: updates_declined = 0
-        !> nonzeros of L + U of the last numeric factorisation (UMFPACK's fill)
+        !> nonzeros of L + U (UMFPACK) or L (CHOLMOD) of the last numeric factorisation
         integer :: lu_nnz = 0
+        !> numeric factorisations by CHOLMOD (the symmetric positive definite matrices; the
+        !> rest by UMFPACK, cfrd_linear_solver)
+        integer :: cholesky = 0
+        !> matrices CHOLMOD found not positive definite (or too badly conditioned), then
+        !> factorised by UMFPACK
+        integer :: cholesky_declined = 0
         !> contact: solves of the active-set iteration (each solve of an increment counts,
         !> the last one finds the set unchanged)
         integer :: contact_iterations = 0

@@ -1,0 +1,358 @@
+!> CHOLMOD (SuiteSparse) supernodal Cholesky factorisation L L^T for the symmetric positive
+!> definite stiffness matrices (issue 21), bound in two layers: private bind(C) interfaces
+!> to the five functions of cfrd_cholmod_shim.c (which owns CHOLMOD's structs, whose layout
+!> changes between versions), and a public `cholmod_t` that keeps the symbolic analysis
+!> for as long as the pattern holds, reads the upper triangle of the full pattern that
+!> cfrd assembles, and reports a matrix that is not positive definite (or too badly
+!> conditioned) as declined, not as an error: the caller then factorises it by UMFPACK
+!> (cfrd_linear_solver). `symmetric_values` says whether a matrix may go to it at all.
+module cfrd_cholmod
+    use, intrinsic :: iso_c_binding, only: c_int, c_double, c_ptr, c_null_ptr, c_associated
+    use cfrd_kinds, only: dp
+    use cfrd_error, only: error_t, fatal_error, numerical_error
+    use cfrd_sparse, only: sparse_pattern_t
+    use cfrd_umfpack, only: rcond_min
+    use cfrd_strings, only: to_text
+    implicit none
+    private
+
+    public :: cholmod_t, mirror_positions, symmetric_values
+    public :: ordering_amd, ordering_metis, ordering_nesdis, symmetry_tolerance
+
+    !> CHOLMOD's ordering codes (cholmod_core.h).
+    integer, parameter :: ordering_amd = 2, ordering_metis = 3, ordering_nesdis = 4
+    !> |a_ij - a_ji| <= symmetry_tolerance sqrt(|a_ii a_jj|) at every entry: symmetric up to
+    !> the round-off of the element matrices' products and their assembly [choice]. The
+    !> bound is scaled by the diagonal (for an SPD matrix |a_ij| <= sqrt(a_ii a_jj)), so an
+    !> entry that cancels to round-off in the assembly passes, while a Newton tangent's
+    !> asymmetry (the consistent tangent of the E-B update, 1e-3 to 1 of its entries) or a
+    !> contact system's does not. Such a matrix differs from its upper triangle by at most
+    !> this relative amount: the solutions of the two differ by less than the 1e-8 the
+    !> results are held to.
+    real(dp), parameter :: symmetry_tolerance = 1.0e-12_dp
+
+    ! cfrd_cholmod_shim.c's status codes (CHOLMOD's).
+    integer(c_int), parameter :: cholmod_ok = 0, cholmod_not_posdef = 1
+
+    !> A Cholesky factorisation of one sparse matrix pattern (its upper triangle).
+    type :: cholmod_t
+        private
+        type(c_ptr) :: handle = c_null_ptr
+        integer :: ordering = ordering_nesdis
+        integer :: n = -1
+        integer(c_int), allocatable :: up_colptr(:), up_rowind(:)
+        integer, allocatable :: up_from(:)          !! position in the full pattern
+        real(c_double), allocatable :: up_values(:)
+        logical :: analysed = .false.
+        logical :: factorised = .false.
+    contains
+        procedure :: set_ordering
+        procedure :: analyse
+        procedure :: is_analysed
+        procedure :: factorise
+        procedure :: solve
+        procedure :: rcond
+        procedure :: factor_nonzeros
+        procedure :: release
+        final :: finalise
+    end type cholmod_t
+
+    interface
+        type(c_ptr) function cfrd_cholmod_new(ordering) bind(C, name='cfrd_cholmod_new')
+            import :: c_int, c_ptr
+            integer(c_int), value :: ordering
+        end function cfrd_cholmod_new
+
+        integer(c_int) function cfrd_cholmod_analyse(handle, n, ap, ai) &
+            bind(C, name='cfrd_cholmod_analyse')
+            import :: c_int, c_ptr
+            type(c_ptr), value :: handle
+            integer(c_int), value :: n
+            integer(c_int), intent(in) :: ap(*), ai(*)
+        end function cfrd_cholmod_analyse
+
+        integer(c_int) function cfrd_cholmod_factorise(handle, ax) &
+            bind(C, name='cfrd_cholmod_factorise')
+            import :: c_int, c_double, c_ptr
+            type(c_ptr), value :: handle
+            real(c_double), intent(in) :: ax(*)
+        end function cfrd_cholmod_factorise
+
+        real(c_double) function cfrd_cholmod_rcond(handle) bind(C, name='cfrd_cholmod_rcond')
+            import :: c_double, c_ptr
+            type(c_ptr), value :: handle
+        end function cfrd_cholmod_rcond
+
+        real(c_double) function cfrd_cholmod_factor_nonzeros(handle) &
+            bind(C, name='cfrd_cholmod_factor_nonzeros')
+            import :: c_double, c_ptr
+            type(c_ptr), value :: handle
+        end function cfrd_cholmod_factor_nonzeros
+
+        integer(c_int) function cfrd_cholmod_solve(handle, b, x) &
+            bind(C, name='cfrd_cholmod_solve')
+            import :: c_int, c_double, c_ptr
+            type(c_ptr), value :: handle
+            real(c_double), intent(in) :: b(*)
+            real(c_double), intent(out) :: x(*)
+        end function cfrd_cholmod_solve
+
+        subroutine cfrd_cholmod_free(handle) bind(C, name='cfrd_cholmod_free')
+            import :: c_ptr
+            type(c_ptr), value :: handle
+        end subroutine cfrd_cholmod_free
+    end interface
+
+contains
+
+    !> The fill-reducing ordering of the next analysis (ordering_amd, _metis, _nesdis).
+    subroutine set_ordering(self, ordering)
+        class(cholmod_t), intent(inout) :: self
+        integer, intent(in) :: ordering
+        if (self%ordering /= ordering) call self%release()
+        self%ordering = ordering
+    end subroutine set_ordering
+
+    !> For each entry p of the pattern, the position of its transpose (0: none stored; a
+    !> diagonal entry is its own).
+    !> The rows of each column are sorted, so one pass over the columns in order finds them.
+    pure function mirror_positions(pattern) result(mirror)
+        type(sparse_pattern_t), intent(in) :: pattern
+        integer, allocatable :: mirror(:)
+        integer, allocatable :: next(:)
+        integer :: i, j, p, q
+        allocate (mirror(pattern%nnz), source=0)
+        ! next(i): the first entry of column i whose row is not yet passed
+        next = pattern%colptr(1:pattern%n) + 1
+        do j = 1, pattern%n
+            do p = pattern%colptr(j) + 1, pattern%colptr(j + 1)
+                i = pattern%rowind(p) + 1
+                if (i == j) mirror(p) = p
+                if (i <= j) cycle
+                ! entry (i, j) of the lower triangle: its transpose (j, i) in column i
+                do q = next(i), pattern%colptr(i + 1)
+                    if (pattern%rowind(q) + 1 >= j) exit
+                end do
+                next(i) = q
+                if (q > pattern%colptr(i + 1)) cycle
+                if (pattern%rowind(q) + 1 /= j) cycle
+                mirror(p) = q
+                mirror(q) = p
+            end do
+        end do
+    end function mirror_positions
+
+    !> Whether the matrix is symmetric to symmetry_tolerance with a positive diagonal (a
+    !> necessary condition of positive definiteness; NaN fails). `mirror` is
+    !> mirror_positions(pattern).
+    pure logical function symmetric_values(pattern, values, mirror) result(symmetric)
+        type(sparse_pattern_t), intent(in) :: pattern
+        real(dp), intent(in) :: values(:)
+        integer, intent(in) :: mirror(:)
+        real(dp), allocatable :: diagonal(:)
+        integer :: i, j, p
+        symmetric = .false.
+        allocate (diagonal(pattern%n), source=0.0_dp)
+        do j = 1, pattern%n
+            do p = pattern%colptr(j) + 1, pattern%colptr(j + 1)
+                if (pattern%rowind(p) + 1 == j) diagonal(j) = values(p)
+            end do
+        end do
+        if (.not. all(diagonal > 0.0_dp)) return
+        do j = 1, pattern%n
+            do p = pattern%colptr(j) + 1, pattern%colptr(j + 1)
+                i = pattern%rowind(p) + 1
+                if (i <= j) cycle
+                if (mirror(p) == 0) then
+                    if (.not. (abs(values(p)) <= symmetry_tolerance* &
+                               sqrt(diagonal(i)*diagonal(j)))) return
+                else if (.not. (abs(values(p) - values(mirror(p))) <= symmetry_tolerance* &
+                                sqrt(diagonal(i)*diagonal(j)))) then
+                    return
+                end if
+            end do
+        end do
+        ! an upper entry whose transpose is not stored
+        do j = 1, pattern%n
+            do p = pattern%colptr(j) + 1, pattern%colptr(j + 1)
+                i = pattern%rowind(p) + 1
+                if (i >= j .or. mirror(p) /= 0) cycle
+                if (.not. (abs(values(p)) <= symmetry_tolerance*sqrt(diagonal(i)*diagonal(j)))) &
+                    return
+            end do
+        end do
+        symmetric = .true.
+    end function symmetric_values
+
+    !> Symbolic analysis (ordering, supernodes) of the upper triangle of the pattern;
+    !> replaces an earlier one.
+    subroutine analyse(self, pattern, error)
+        class(cholmod_t), intent(inout) :: self
+        type(sparse_pattern_t), intent(in) :: pattern
+        type(error_t), allocatable, intent(out) :: error
+        integer :: j, p, k
+        integer(c_int) :: status
+        call self%release()
+        self%handle = cfrd_cholmod_new(int(ordering_asked(self%ordering), c_int))
+        if (.not. c_associated(self%handle)) then
+            call fatal_error(error, 'CHOLMOD: out of memory', numerical_error)
+            return
+        end if
+        self%n = pattern%n
+        allocate (self%up_colptr(pattern%n + 1))
+        k = 0
+        do j = 1, pattern%n
+            do p = pattern%colptr(j) + 1, pattern%colptr(j + 1)
+                if (pattern%rowind(p) + 1 <= j) k = k + 1
+            end do
+        end do
+        allocate (self%up_rowind(k), self%up_from(k), self%up_values(k))
+        k = 0
+        self%up_colptr(1) = 0
+        do j = 1, pattern%n
+            do p = pattern%colptr(j) + 1, pattern%colptr(j + 1)
+                if (pattern%rowind(p) + 1 > j) cycle
+                k = k + 1
+                self%up_rowind(k) = pattern%rowind(p)
+                self%up_from(k) = p
+            end do
+            self%up_colptr(j + 1) = k
+        end do
+        status = cfrd_cholmod_analyse(self%handle, int(pattern%n, c_int), self%up_colptr, &
+                                      self%up_rowind)
+        if (status /= cholmod_ok) then
+            call fatal_error(error, 'CHOLMOD: symbolic analysis failed (status '// &
+                             status_text(status)//')', numerical_error)
+            call self%release()
+            return
+        end if
+        self%analysed = .true.
+    end subroutine analyse
+
+    logical function is_analysed(self)
+        class(cholmod_t), intent(in) :: self
+        is_analysed = self%analysed
+    end function is_analysed
+
+    !> Numeric factorisation of the upper triangle of `values` (a matrix of the analysed
+    !> pattern). `positive` is false, and no factorisation is kept, when CHOLMOD finds it
+    !> not positive definite or its reciprocal condition estimate is below rcond_min (the
+    !> caller then factorises it by UMFPACK, whose verdict on a singular matrix stands).
+    subroutine factorise(self, pattern, values, positive, error)
+        class(cholmod_t), intent(inout) :: self
+        type(sparse_pattern_t), intent(in) :: pattern
+        real(dp), intent(in) :: values(:)
+        logical, intent(out) :: positive
+        type(error_t), allocatable, intent(out) :: error
+        integer(c_int) :: status
+        positive = .false.
+        self%factorised = .false.
+        if (.not. self%analysed) call self%analyse(pattern, error)
+        if (allocated(error)) return
+        if (pattern%n /= self%n .or. size(values) < pattern%nnz .or. &
+            maxval([0, self%up_from]) > pattern%nnz) then
+            call fatal_error(error, 'internal: CHOLMOD given a matrix of another pattern', &
+                             numerical_error)
+            return
+        end if
+        self%up_values = values(self%up_from)
+        status = cfrd_cholmod_factorise(self%handle, self%up_values)
+        if (status == cholmod_not_posdef) return
+        if (status /= cholmod_ok) then
+            call fatal_error(error, 'CHOLMOD: numeric factorisation failed (status '// &
+                             status_text(status)//')', numerical_error)
+            return
+        end if
+        positive = self%rcond() >= rcond_min
+        self%factorised = positive
+    end subroutine factorise
+
+    !> x = A^-1 b with the kept factorisation.
+    subroutine solve(self, b, x, error)
+        class(cholmod_t), intent(inout) :: self
+        real(dp), intent(in) :: b(:)
+        real(dp), intent(out) :: x(:)
+        type(error_t), allocatable, intent(out) :: error
+        integer(c_int) :: status
+        if (.not. self%factorised) then
+            call fatal_error(error, 'internal: CHOLMOD solve called without a factorisation', &
+                             numerical_error)
+            return
+        end if
+        if (size(b) < self%n .or. size(x) < self%n) then
+            call fatal_error(error, 'internal: vector shorter than the CHOLMOD matrix', &
+                             numerical_error)
+            return
+        end if
+        status = cfrd_cholmod_solve(self%handle, b, x)
+        if (status /= cholmod_ok) call fatal_error(error, 'CHOLMOD: solve failed (status '// &
+                                                   status_text(status)//')', numerical_error)
+    end subroutine solve
+
+    !> CHOLMOD's reciprocal condition estimate (min L_jj / max L_jj)^2, 0 before a
+    !> factorisation.
+    real(dp) function rcond(self)
+        class(cholmod_t), intent(in) :: self
+        rcond = 0.0_dp
+        if (c_associated(self%handle)) rcond = cfrd_cholmod_rcond(self%handle)
+    end function rcond
+
+    !> Nonzeros of L (its diagonal counted), 0 before an analysis.
+    integer function factor_nonzeros(self)
+        class(cholmod_t), intent(in) :: self
+        factor_nonzeros = 0
+        if (c_associated(self%handle)) &
+            factor_nonzeros = nint(cfrd_cholmod_factor_nonzeros(self%handle))
+    end function factor_nonzeros
+
+    !> Free the analysis and the factorisation (safe to call at any time).
+    subroutine release(self)
+        class(cholmod_t), intent(inout) :: self
+        if (c_associated(self%handle)) call cfrd_cholmod_free(self%handle)
+        self%handle = c_null_ptr
+        self%analysed = .false.
+        self%factorised = .false.
+        self%n = -1
+        if (allocated(self%up_colptr)) deallocate (self%up_colptr)
+        if (allocated(self%up_rowind)) deallocate (self%up_rowind, self%up_from, self%up_values)
+    end subroutine release
+
+    subroutine finalise(self)
+        type(cholmod_t), intent(inout) :: self
+        call self%release()
+    end subroutine finalise
+
+    !> CFRD_CHOLMOD_ORDERING=amd|metis|nesdis (a measuring aid, like CFRD_WRITE_MATRIX;
+    !> docs/performance.md (o)): that ordering instead of `ordering`.
+    integer function ordering_asked(ordering) result(chosen)
+        integer, intent(in) :: ordering
+        character(len=16) :: text
+        integer :: length, status
+        chosen = ordering
+        call get_environment_variable('CFRD_CHOLMOD_ORDERING', text, length, status)
+        if (status /= 0) return
+        select case (text)
+        case ('amd')
+            chosen = ordering_amd
+        case ('metis')
+            chosen = ordering_metis
+        case ('nesdis')
+            chosen = ordering_nesdis
+        end select
+    end function ordering_asked
+
+    pure function status_text(status) result(text)
+        integer(c_int), intent(in) :: status
+        character(len=:), allocatable :: text
+        text = to_text(int(status))
+        select case (status)
+        case (-2)
+            text = text//', out of memory'
+        case (-3)
+            text = text//', too large'
+        case (-4)
+            text = text//', invalid input'
+        end select
+    end function status_text
+
+end module cfrd_cholmod

@@ -1,0 +1,127 @@
+/* CHOLMOD (SuiteSparse) behind five plain C functions for cfrd_cholmod.f90 (issue 21).
+ *
+ * cholmod_common and cholmod_factor are C structs whose layout changes between CHOLMOD
+ * versions; binding them field by field from Fortran would break silently with the next
+ * SuiteSparse. This file owns them: Fortran sees an opaque handle, int and double arrays
+ * and int status codes only. No logic beyond the calls: the symmetry check, the upper
+ * triangle and the fallback to UMFPACK are in Fortran.
+ *
+ * The matrix is the upper triangle in compressed columns, 0-based, rows sorted in each
+ * column (stype 1: CHOLMOD reads the upper part as the whole symmetric matrix).
+ */
+#include <stdlib.h>
+#include <string.h>
+
+#include <suitesparse/cholmod.h>
+
+typedef struct {
+    cholmod_common common;
+    cholmod_sparse *a;   /* the upper triangle, values of the last factorisation */
+    cholmod_factor *l;   /* symbolic, then numeric (supernodal LL^T) */
+    cholmod_dense *x, *y, *e;   /* cholmod_solve2's reused workspace */
+} cfrd_cholmod_t;
+
+/* A new handle with one ordering (2 AMD, 3 METIS, 4 NESDIS: CHOLMOD's codes), supernodal,
+ * silent; NULL when out of memory. */
+void *cfrd_cholmod_new(int ordering)
+{
+    cfrd_cholmod_t *h = calloc(1, sizeof(cfrd_cholmod_t));
+    if (h == NULL) return NULL;
+    cholmod_start(&h->common);
+    h->common.nmethods = 1;
+    h->common.method[0].ordering = ordering;
+    h->common.postorder = 1;
+    h->common.supernodal = CHOLMOD_SUPERNODAL;
+    h->common.print = 0;
+    /* a matrix that is not positive definite goes to UMFPACK: no need to finish */
+    h->common.quick_return_if_not_posdef = 1;
+    return h;
+}
+
+static void free_factor(cfrd_cholmod_t *h)
+{
+    if (h->l) cholmod_free_factor(&h->l, &h->common);
+    if (h->a) cholmod_free_sparse(&h->a, &h->common);
+    if (h->x) cholmod_free_dense(&h->x, &h->common);
+    if (h->y) cholmod_free_dense(&h->y, &h->common);
+    if (h->e) cholmod_free_dense(&h->e, &h->common);
+}
+
+/* Symbolic analysis (ordering, supernodes) of the pattern ap, ai (n columns); replaces an
+ * earlier one. Returns CHOLMOD's status (0 ok, negative an error). */
+int cfrd_cholmod_analyse(void *handle, int n, const int *ap, const int *ai)
+{
+    cfrd_cholmod_t *h = handle;
+    int nnz = ap[n];
+    free_factor(h);
+    h->common.status = CHOLMOD_OK;
+    h->a = cholmod_allocate_sparse((size_t)n, (size_t)n, (size_t)nnz, 1, 1, 1, CHOLMOD_REAL,
+                                   &h->common);
+    if (h->a == NULL) return h->common.status < 0 ? h->common.status : CHOLMOD_OUT_OF_MEMORY;
+    memcpy(h->a->p, ap, sizeof(int) * (size_t)(n + 1));
+    memcpy(h->a->i, ai, sizeof(int) * (size_t)nnz);
+    memset(h->a->x, 0, sizeof(double) * (size_t)nnz);
+    h->l = cholmod_analyze(h->a, &h->common);
+    if (h->l == NULL) return h->common.status < 0 ? h->common.status : CHOLMOD_INVALID;
+    return h->common.status < 0 ? h->common.status : CHOLMOD_OK;
+}
+
+/* Numeric factorisation of the values ax (the analysed pattern's). Returns 0 ok, 1 not
+ * positive definite (CHOLMOD_NOT_POSDEF), negative an error; -100 without an analysis. */
+int cfrd_cholmod_factorise(void *handle, const double *ax)
+{
+    cfrd_cholmod_t *h = handle;
+    if (h->a == NULL || h->l == NULL) return -100;
+    memcpy(h->a->x, ax, sizeof(double) * (size_t)((int *)h->a->p)[h->a->ncol]);
+    h->common.status = CHOLMOD_OK;
+    cholmod_factorize(h->a, h->l, &h->common);
+    if (h->common.status == CHOLMOD_OK && h->l->minor < h->l->n) return CHOLMOD_NOT_POSDEF;
+    return h->common.status;
+}
+
+/* CHOLMOD's reciprocal condition estimate of the factor, (min L_jj / max L_jj)^2; 0 when
+ * there is none. */
+double cfrd_cholmod_rcond(void *handle)
+{
+    cfrd_cholmod_t *h = handle;
+    if (h->l == NULL || !h->l->is_ll) return 0.0;
+    return cholmod_rcond(h->l, &h->common);
+}
+
+/* Nonzeros of L (the diagonal counted) of the analysis. */
+double cfrd_cholmod_factor_nonzeros(void *handle)
+{
+    cfrd_cholmod_t *h = handle;
+    return h->l == NULL ? 0.0 : h->common.lnz;
+}
+
+/* x = A^-1 b with the factorisation (n = the analysed size). Returns CHOLMOD's status. */
+int cfrd_cholmod_solve(void *handle, const double *b, double *x)
+{
+    cfrd_cholmod_t *h = handle;
+    cholmod_dense rhs;
+    if (h->l == NULL || !h->l->is_ll) return -100;
+    memset(&rhs, 0, sizeof(rhs));
+    rhs.nrow = h->l->n;
+    rhs.ncol = 1;
+    rhs.nzmax = h->l->n;
+    rhs.d = h->l->n;
+    rhs.x = (void *)b;
+    rhs.xtype = CHOLMOD_REAL;
+    rhs.dtype = CHOLMOD_DOUBLE;
+    h->common.status = CHOLMOD_OK;
+    if (!cholmod_solve2(CHOLMOD_A, h->l, &rhs, NULL, &h->x, NULL, &h->y, &h->e, &h->common))
+        return h->common.status < 0 ? h->common.status : CHOLMOD_INVALID;
+    memcpy(x, h->x->x, sizeof(double) * h->l->n);
+    return CHOLMOD_OK;
+}
+
+/* Free everything (a NULL handle is fine). */
+void cfrd_cholmod_free(void *handle)
+{
+    cfrd_cholmod_t *h = handle;
+    if (h == NULL) return;
+    free_factor(h);
+    cholmod_finish(&h->common);
+    free(h);
+}

@@ -1,0 +1,222 @@
+!> The sparse direct solver of the stiffness equations (issue 21): CHOLMOD's supernodal
+!> Cholesky factorisation (cfrd_cholmod) for a matrix that is symmetric with a positive
+!> diagonal, UMFPACK's LU (cfrd_umfpack) for every other one and for every matrix CHOLMOD
+!> declines (not positive definite, or its condition estimate below rcond_min): the same
+!> matrix is then factorised by UMFPACK, no failure. The systems with contact multipliers
+!> (saddle points, not positive definite) always go to UMFPACK, with its row updates.
+!> `--linear-solver umfpack` forces UMFPACK everywhere (the solver before issue 21),
+!> `--linear-solver cholmod` makes a symmetric system that CHOLMOD cannot factorise an
+!> error instead of a fallback [choice] (docs/theory.md, "The linear solver").
+module cfrd_linear_solver
+    use cfrd_kinds, only: dp
+    use cfrd_error, only: error_t, fatal_error, numerical_error
+    use cfrd_sparse, only: sparse_pattern_t
+    use cfrd_umfpack, only: umfpack_t
+    use cfrd_cholmod, only: cholmod_t, mirror_positions, symmetric_values
+    implicit none
+    private
+
+    public :: linear_solver_t
+    public :: linear_solver_auto, linear_solver_cholmod, linear_solver_umfpack
+
+    !> --linear-solver: CHOLMOD for the symmetric positive definite matrices and UMFPACK for
+    !> the rest (auto, the default); CHOLMOD for every symmetric one, an error where it
+    !> fails (cholmod); UMFPACK for all (umfpack).
+    integer, parameter :: linear_solver_auto = 0, linear_solver_cholmod = 1, &
+                          linear_solver_umfpack = 2
+
+    !> The factorisation of one sparse matrix pattern, by CHOLMOD or UMFPACK.
+    type :: linear_solver_t
+        private
+        type(umfpack_t) :: lu
+        type(cholmod_t) :: llt
+        integer :: choice = linear_solver_auto
+        !> the system has no contact multipliers: its matrices may be positive definite
+        logical :: may_be_spd = .true.
+        integer, allocatable :: mirror(:)    !! mirror_positions of the pattern
+        logical :: use_llt = .false.         !! the current matrix goes to CHOLMOD
+        logical :: llt_factorised = .false.  !! the kept factorisation is CHOLMOD's
+        logical :: lu_analysed = .false.
+    contains
+        procedure :: configure
+        procedure :: set_row_scaling
+        procedure :: choose
+        procedure :: is_analysed
+        procedure :: analyse
+        procedure :: factorise
+        procedure :: update_rows
+        procedure :: solve
+        procedure :: rcond
+        procedure :: factor_nonzeros
+        procedure :: is_updated
+        procedure :: is_cholesky
+        procedure :: release
+    end type linear_solver_t
+
+contains
+
+    !> The choice (linear_solver_auto, _cholmod, _umfpack) and whether the system's
+    !> matrices may be positive definite at all (false with contact multipliers).
+    subroutine configure(self, choice, may_be_spd)
+        class(linear_solver_t), intent(inout) :: self
+        integer, intent(in) :: choice
+        logical, intent(in) :: may_be_spd
+        self%choice = choice
+        self%may_be_spd = may_be_spd
+    end subroutine configure
+
+    !> UMFPACK's row scaling (umfpack_t%set_row_scaling).
+    subroutine set_row_scaling(self, on)
+        class(linear_solver_t), intent(inout) :: self
+        logical, intent(in) :: on
+        call self%lu%set_row_scaling(on)
+    end subroutine set_row_scaling
+
+    !> Which library factorises `values` next: CHOLMOD when the choice allows it and the
+    !> matrix is symmetric with a positive diagonal (symmetric_values), else UMFPACK.
+    !> Under --linear-solver cholmod a system without contact whose matrix is not so is an
+    !> error.
+    subroutine choose(self, pattern, values, error)
+        class(linear_solver_t), intent(inout) :: self
+        type(sparse_pattern_t), intent(in) :: pattern
+        real(dp), intent(in) :: values(:)
+        type(error_t), allocatable, intent(out) :: error
+        self%use_llt = .false.
+        if (self%choice == linear_solver_umfpack .or. .not. self%may_be_spd) return
+        if (allocated(self%mirror)) then
+            if (size(self%mirror) /= pattern%nnz) deallocate (self%mirror)
+        end if
+        if (.not. allocated(self%mirror)) self%mirror = mirror_positions(pattern)
+        self%use_llt = symmetric_values(pattern, values, self%mirror)
+        if (.not. self%use_llt .and. self%choice == linear_solver_cholmod) &
+            call fatal_error(error, 'the stiffness matrix is not symmetric with a positive '// &
+                             'diagonal: CHOLMOD cannot factorise it (--linear-solver '// &
+                             'cholmod; auto would use UMFPACK)', numerical_error)
+    end subroutine choose
+
+    !> The chosen library's symbolic analysis of the pattern exists.
+    logical function is_analysed(self)
+        class(linear_solver_t), intent(in) :: self
+        if (self%use_llt) then
+            is_analysed = self%llt%is_analysed()
+        else
+            is_analysed = self%lu_analysed
+        end if
+    end function is_analysed
+
+    !> The chosen library's symbolic analysis (ordering) of the pattern.
+    subroutine analyse(self, pattern, values, error)
+        class(linear_solver_t), intent(inout) :: self
+        type(sparse_pattern_t), intent(in) :: pattern
+        real(dp), intent(in) :: values(:)
+        type(error_t), allocatable, intent(out) :: error
+        if (self%use_llt) then
+            call self%llt%analyse(pattern, error)
+        else
+            call self%lu%analyse(pattern, values, error)
+            self%lu_analysed = .not. allocated(error)
+        end if
+    end subroutine analyse
+
+    !> Numeric factorisation by the chosen library. `declined`: CHOLMOD found the matrix
+    !> not positive definite (or too badly conditioned); UMFPACK is chosen now, and the
+    !> caller factorises again (its analysis first, if is_analysed says so).
+    subroutine factorise(self, pattern, values, declined, error)
+        class(linear_solver_t), intent(inout) :: self
+        type(sparse_pattern_t), intent(in) :: pattern
+        real(dp), intent(in) :: values(:)
+        logical, intent(out) :: declined
+        type(error_t), allocatable, intent(out) :: error
+        logical :: positive
+        declined = .false.
+        self%llt_factorised = .false.
+        if (self%use_llt) then
+            call self%llt%factorise(pattern, values, positive, error)
+            if (allocated(error)) return
+            self%llt_factorised = positive
+            if (positive) return
+            if (self%choice == linear_solver_cholmod) then
+                call fatal_error(error, 'CHOLMOD: the stiffness matrix is not positive '// &
+                                 'definite, or its reciprocal condition estimate is below '// &
+                                 'the limit (--linear-solver cholmod; auto would use UMFPACK)', &
+                                 numerical_error)
+                return
+            end if
+            declined = .true.
+            self%use_llt = .false.
+            return
+        end if
+        call self%lu%factorise(pattern, values, error)
+        if (.not. allocated(error)) self%lu_analysed = .true.
+    end subroutine factorise
+
+    !> UMFPACK's row update (umfpack_t%update_rows); never done on a CHOLMOD factorisation.
+    subroutine update_rows(self, pattern, values, done, error)
+        class(linear_solver_t), intent(inout) :: self
+        type(sparse_pattern_t), intent(in) :: pattern
+        real(dp), intent(in) :: values(:)
+        logical, intent(out) :: done
+        type(error_t), allocatable, intent(out) :: error
+        done = .false.
+        if (self%llt_factorised) return
+        call self%lu%update_rows(pattern, values, done, error)
+    end subroutine update_rows
+
+    !> x = A^-1 b with the kept factorisation (or UMFPACK's updated one).
+    subroutine solve(self, pattern, values, b, x, error)
+        class(linear_solver_t), intent(inout) :: self
+        type(sparse_pattern_t), intent(in) :: pattern
+        real(dp), intent(in) :: values(:), b(:)
+        real(dp), intent(out) :: x(:)
+        type(error_t), allocatable, intent(out) :: error
+        if (self%llt_factorised) then
+            call self%llt%solve(b, x, error)
+        else
+            call self%lu%solve(pattern, values, b, x, error)
+        end if
+    end subroutine solve
+
+    !> The reciprocal condition estimate of the kept factorisation's library.
+    real(dp) function rcond(self)
+        class(linear_solver_t), intent(in) :: self
+        if (self%llt_factorised) then
+            rcond = self%llt%rcond()
+        else
+            rcond = self%lu%rcond()
+        end if
+    end function rcond
+
+    !> Nonzeros of the kept factorisation: L + U (UMFPACK), L (CHOLMOD).
+    integer function factor_nonzeros(self)
+        class(linear_solver_t), intent(in) :: self
+        if (self%llt_factorised) then
+            factor_nonzeros = self%llt%factor_nonzeros()
+        else
+            factor_nonzeros = self%lu%factor_nonzeros()
+        end if
+    end function factor_nonzeros
+
+    logical function is_updated(self)
+        class(linear_solver_t), intent(in) :: self
+        is_updated = .false.
+        if (.not. self%llt_factorised) is_updated = self%lu%is_updated()
+    end function is_updated
+
+    !> The kept factorisation is CHOLMOD's.
+    logical function is_cholesky(self)
+        class(linear_solver_t), intent(in) :: self
+        is_cholesky = self%llt_factorised
+    end function is_cholesky
+
+    !> Free both libraries' factorisations and the pattern's mirror (a new pattern follows).
+    subroutine release(self)
+        class(linear_solver_t), intent(inout) :: self
+        call self%lu%release()
+        call self%llt%release()
+        if (allocated(self%mirror)) deallocate (self%mirror)
+        self%use_llt = .false.
+        self%llt_factorised = .false.
+        self%lu_analysed = .false.
+    end subroutine release
+
+end module cfrd_linear_solver
