@@ -1,22 +1,17 @@
 !> Error control of the midpoint and forward Euler increments (issue 21): an increment whose
 !> relative out-of-balance force |f_k - f_int(sigma_new)| / |f_k| (the listing's MAX RESID)
-!> exceeds ERRTOL is rejected, and the stage driver redoes it from its start state in two
-!> halves, at most DEPTH halvings below the stage's nominal increment, where it is accepted
-!> with a warning; the step grows back after an accepted one (docs/theory.md section 9,
+!> exceeds ERRTOL is rejected (cfrd_increment returns it uncommitted, `unbalanced`), and the
+!> stage driver redoes it from its start state in two halves, at most DEPTH halvings below
+!> the stage's nominal increment, where it is accepted with a warning; the step grows back after an accepted one (docs/theory.md section 9,
 !> "Error control").
 module cfrd_error_control
     use cfrd_kinds, only: dp
-    use cfrd_error, only: error_t, fatal_error, numerical_error
     use cfrd_strings, only: to_text, real_text
     use cfrd_model, only: model_t, solver_newton
     implicit none
     private
 
-    public :: out_of_tolerance, balance_error, is_balance_error, halvings, unbalanced_warning, &
-              may_grow
-
-    !> The words that mark an increment rejected by the error control.
-    character(len=*), parameter :: marker = 'out of balance above ERRTOL'
+    public :: out_of_tolerance, halvings, unbalanced_warning, may_grow
 
 contains
 
@@ -31,18 +26,6 @@ contains
         out_of_tolerance = residual > max(model%error_tolerance, roundoff)
     end function out_of_tolerance
 
-    !> The error of a rejected increment: where (context: stage, increment, load fraction)
-    !> and the residual against ERRTOL.
-    subroutine balance_error(model, residual, context, error)
-        type(model_t), intent(in) :: model
-        real(dp), intent(in) :: residual
-        character(len=*), intent(in) :: context
-        type(error_t), allocatable, intent(out) :: error
-        call fatal_error(error, context//': '//marker//' (relative residual '// &
-                         real_text(residual)//', ERRTOL '//real_text(model%error_tolerance)// &
-                         ')', numerical_error)
-    end subroutine balance_error
-
     !> Whether the step may double after an accepted increment of relative residual
     !> `residual`: always without error control (the Newton cutbacks grow back at once);
     !> under it only when the residual predicts that the doubled step stays below ERRTOL.
@@ -56,12 +39,6 @@ contains
         if (model%solver == solver_newton .or. model%error_tolerance <= 0.0_dp) return
         may_grow = residual <= 0.2_dp*model%error_tolerance
     end function may_grow
-
-    !> Whether `error` is the rejection of an increment by the error control.
-    pure logical function is_balance_error(error)
-        type(error_t), intent(in) :: error
-        is_balance_error = index(error%message, marker) > 0
-    end function is_balance_error
 
     !> The halvings that took the nominal increment to `step` (both load fractions; the
     !> stage driver's steps are the nominal one over powers of 2, or the rest of the stage,
@@ -79,8 +56,9 @@ contains
         real(dp), intent(in) :: residual
         integer, intent(in) :: depth
         character(len=:), allocatable :: text
-        text = context//': accepted '//marker//' (relative residual '//real_text(residual)// &
-               ', ERRTOL '//real_text(model%error_tolerance)//') at subdivision depth '// &
+        text = context//': accepted out of balance above ERRTOL (relative residual '// &
+               real_text(residual)//', ERRTOL '//real_text(model%error_tolerance)// &
+               ') at subdivision depth '// &
                to_text(depth)//' (DEPTH of CONTROL ERRCTL; the residual is carried into '// &
                'the next increment)'
     end function unbalanced_warning

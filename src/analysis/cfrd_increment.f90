@@ -21,7 +21,7 @@ module cfrd_increment
                                   multiplier_scale
     use cfrd_active_set, only: solve_system
     use cfrd_stage_state, only: state_t, ngauss
-    use cfrd_error_control, only: out_of_tolerance, balance_error
+    use cfrd_error_control, only: out_of_tolerance
     implicit none
     private
 
@@ -107,12 +107,13 @@ contains
         type(stage_result_t), intent(inout) :: result
         character(len=*), intent(in) :: context
         type(error_t), allocatable, intent(out) :: error
-        !> the relative residual of the increment accepted (MAX RESID's measure)
+        !> the relative residual of the increment (MAX RESID's measure)
         real(dp), intent(out), optional :: accepted_residual
-        !> midpoint / Euler: reject an increment above ERRTOL (default); false at the error
-        !> control's depth limit, where the stage driver accepts it with a warning
+        !> midpoint / Euler: an increment above ERRTOL is rejected, returned with nothing of
+        !> the state changed (the stage driver halves it); absent or false (the error
+        !> control's depth limit), it is accepted and `unbalanced` says so
         logical, intent(in), optional :: may_reject
-        !> accepted above ERRTOL (may_reject false)
+        !> the increment is above ERRTOL (rejected when may_reject, else accepted)
         logical, intent(out), optional :: unbalanced
         real(dp), allocatable :: du(:, :), stress_end(:, :, :), stress_mid(:, :, :)
         real(dp) :: residual, load_norm, recent, t0, floor
@@ -122,6 +123,7 @@ contains
         type(contact_t), allocatable :: contact
         logical :: changed, searched, linear, reject
 
+        if (present(unbalanced)) unbalanced = .false.
         load_norm = max(norm2(f_target), tiny(1.0_dp))
         system%viscous = 0.0_dp
         if (state%has_contact) then
@@ -287,12 +289,10 @@ contains
         ! that may pass through zero, the contact's) is no error of the step's size.
         reject = .not. linear .and. out_of_tolerance(model, residual, floor/load_norm)
         if (present(unbalanced)) unbalanced = reject
-        if (present(may_reject)) reject = reject .and. may_reject
-        if (reject) then
-            call balance_error(model, residual, context, error)
-            return
-        end if
         if (present(accepted_residual)) accepted_residual = residual
+        if (present(may_reject)) then
+            if (reject .and. may_reject) return
+        end if
         ! Searches are counted for the increments accepted (a rejected one searches again).
         if (state%has_contact) then
             if (searched) result%stats%searches = result%stats%searches + 1

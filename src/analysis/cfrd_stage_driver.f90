@@ -27,7 +27,7 @@ module cfrd_stage_driver
     use cfrd_linear_system, only: system_t, new_system
     use cfrd_stage_state, only: state_t, ngauss
     use cfrd_increment, only: solve_increment
-    use cfrd_error_control, only: is_balance_error, halvings, unbalanced_warning, may_grow
+    use cfrd_error_control, only: halvings, unbalanced_warning, may_grow
     use cfrd_restart_carry, only: carry_of, restore_state
     implicit none
     private
@@ -337,7 +337,7 @@ contains
         real(dp), allocatable :: creep_before(:, :, :), wet_before(:, :, :)
         logical :: creeps, wets
         real(dp) :: done, step, nominal, level, residual
-        logical :: unbalanced
+        logical :: unbalanced, rejectable, rejected
         real(dp), allocatable :: f_water(:, :)
         integer :: cuts, k
         character(len=:), allocatable :: context
@@ -379,26 +379,27 @@ contains
                                      state%stress, state%strain, state%history, state%wet, &
                                      state%creep_stress)
             end if
+            ! Midpoint / Euler out of balance beyond ERRTOL: rejected, and redone in two
+            ! halves, down to DEPTH halvings of the nominal increment (cfrd_error_control).
+            rejectable = halvings(step, nominal) < model%max_depth
             call solve_increment(model, library, state, system, &
                                  f_start + f_water + stage_force*(done + step), &
                                  du_stage*step, result, context, error, residual, &
-                                 halvings(step, nominal) < model%max_depth, unbalanced)
+                                 rejectable, unbalanced)
+            rejected = .not. allocated(error) .and. unbalanced .and. rejectable
             if (creeps .or. wets) then
-                ! the step's creep and wetting are spent (or, after no convergence, undone)
-                if (allocated(error) .and. creeps) state%creep = creep_before
-                if (allocated(error) .and. wets) state%wet = wet_before
+                ! the step's creep and wetting are spent (or, not accepted, undone)
+                if ((allocated(error) .or. rejected) .and. creeps) state%creep = creep_before
+                if ((allocated(error) .or. rejected) .and. wets) state%wet = wet_before
                 state%creep_stress = 0.0_dp
             end if
+            if (rejected) then
+                result%cutbacks = result%cutbacks + 1
+                step = 0.5_dp*step
+                k = k - 1
+                cycle
+            end if
             if (allocated(error)) then
-                ! Midpoint / Euler out of balance beyond ERRTOL: redo the increment in two
-                ! halves down to DEPTH halvings of the nominal one (cfrd_error_control).
-                if (is_balance_error(error)) then
-                    deallocate (error)
-                    result%cutbacks = result%cutbacks + 1
-                    step = 0.5_dp*step
-                    k = k - 1
-                    cycle
-                end if
                 if (index(error%message, 'no convergence') == 0) return
                 if (cuts == max_cutbacks) then
                     error%message = error%message//'; the increment cut back '// &
