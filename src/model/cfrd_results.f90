@@ -185,7 +185,7 @@ module cfrd_results
         integer :: increments = 0
         integer :: factorisations = 0              !! numeric factorisations in the stage
         integer :: iterations = 0                  !! Newton iterations in the stage
-        integer :: cutbacks = 0                    !! increments halved after no convergence
+        integer :: cutbacks = 0                    !! increments halved (no convergence, or above ERRTOL)
         !> increments accepted above ERRTOL at the depth limit of the error control, and the
         !> warning of the first (docs/theory.md section 9, "Error control")
         integer :: unbalanced = 0
