@@ -97,7 +97,7 @@ contains
     !> state changes only when the increment is accepted.
     subroutine solve_increment(model, library, state, system, f_target, du_prescribed, &
                                result, context, error, accepted_residual, may_reject, &
-                               unbalanced)
+                               unbalanced, stalled)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(inout) :: state
@@ -115,6 +115,9 @@ contains
         logical, intent(in), optional :: may_reject
         !> the increment is above ERRTOL (rejected when may_reject, else accepted)
         logical, intent(out), optional :: unbalanced
+        !> the error is a convergence failure (Newton's iterations, the contact active set),
+        !> which a smaller step may cure: the stage driver cuts the increment back
+        logical, intent(out), optional :: stalled
         real(dp), allocatable :: du(:, :), stress_end(:, :, :), stress_mid(:, :, :)
         real(dp) :: residual, load_norm, recent, t0, floor
         real(dp), allocatable :: rhs_stress(:, :, :), d_start(:, :, :, :), f_end(:, :)
@@ -124,6 +127,7 @@ contains
         logical :: changed, searched, linear, reject
 
         if (present(unbalanced)) unbalanced = .false.
+        if (present(stalled)) stalled = .false.
         load_norm = max(norm2(f_target), tiny(1.0_dp))
         system%viscous = 0.0_dp
         if (state%has_contact) then
@@ -151,7 +155,7 @@ contains
         rhs_stress = state%stress
         if (allocated(state%creep_stress)) rhs_stress = rhs_stress - state%creep_stress
         call solve_out_of_balance(model, library, state, rhs_stress, f_target, du_prescribed, &
-                                  system, du, result, context, error, contact)
+                                  system, du, result, context, error, contact, unsettled=stalled)
         if (allocated(error)) return
         linear = system%factorised_linear .or. &
                  (state%has_contact .and. all_linear(model, state%active))
@@ -172,7 +176,8 @@ contains
                               error, contact=contact)
             if (allocated(error)) return
             call solve_out_of_balance(model, library, state, rhs_stress, f_target, &
-                                      du_prescribed, system, du, result, context, error, contact)
+                                      du_prescribed, system, du, result, context, error, &
+                                      contact, unsettled=stalled)
             if (allocated(error)) return
             if (model%solver == solver_newton) then
                 ! The counts first, so that the predictor's stresses are updated once (with
@@ -215,6 +220,7 @@ contains
                                          real_text(model%tolerance)//'; largest out-of-'// &
                                          'balance force at '//worst_node()//')', &
                                          numerical_error)
+                        if (present(stalled)) stalled = .true.
                         return
                     end if
                     recent = residual
@@ -225,6 +231,7 @@ contains
                                      '(relative residual '//real_text(residual)//', tolerance '// &
                                      real_text(model%tolerance)//'; largest out-of-balance '// &
                                      'force at '//worst_node()//')', numerical_error)
+                    if (present(stalled)) stalled = .true.
                     return
                 end if
                 ! More sub-steps where du now asks for them: the stresses and the residual
@@ -252,7 +259,7 @@ contains
                     integer :: halving
                     ! f_target - f_int(stress_end): the internal forces of the residual above
                     call solve_system(model, f_target - f_end, 0.0_dp*du_prescribed, system, &
-                                      ddu, result, context, error, contact, du)
+                                      ddu, result, context, error, contact, du, stalled)
                     if (allocated(error)) return
                     ! Backtracking line search: the E-B tangent has kinks (stress-level cap,
                     ! sigma3 floor, Poisson bounds, unloading transition) where a full
@@ -321,7 +328,7 @@ contains
     !> solved with du and the active set iterated (cfrd_active_set); `du_base` is the
     !> increment already taken (Newton).
     subroutine solve_out_of_balance(model, library, state, stress, f_target, du_p, system, &
-                                    du, result, context, error, contact, du_base)
+                                    du, result, context, error, contact, du_base, unsettled)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(in) :: state
@@ -333,6 +340,8 @@ contains
         type(error_t), allocatable, intent(out) :: error
         type(contact_t), intent(inout), optional :: contact
         real(dp), intent(in), optional :: du_base(:, :)
+        !> the error is the contact active set's failure to converge (solve_system)
+        logical, intent(out), optional :: unsettled
         real(dp), allocatable :: f_int(:, :)
         allocate (f_int(2, model%mesh%nnode))
         if (any(du_p /= 0.0_dp)) then
@@ -342,7 +351,7 @@ contains
             call internal_forces(model, library, state%active, stress, f_int)
         end if
         call solve_system(model, f_target - f_int, du_p, system, du, result, context, error, &
-                          contact, du_base)
+                          contact, du_base, unsettled)
     end subroutine solve_out_of_balance
 
     !> Strain (or relative displacement) increments of element e for the nodal increment du,
