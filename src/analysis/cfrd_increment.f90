@@ -9,7 +9,7 @@ module cfrd_increment
     use cfrd_error, only: error_t, fatal_error, numerical_error
     use cfrd_clock, only: wall_seconds
     use cfrd_strings, only: to_text, real_text
-    use cfrd_model, only: model_t, solver_euler, solver_newton
+    use cfrd_model, only: model_t, solver_midpoint, solver_euler, solver_newton
     use cfrd_results, only: stage_result_t
     use cfrd_material_law, only: is_linear, update_history, material_update, &
                                  material_update_tangent, material_tangent, update_substeps
@@ -124,7 +124,7 @@ contains
         integer, allocatable :: substeps(:, :), grown(:, :)
         integer :: iteration
         type(contact_t), allocatable :: contact
-        logical :: changed, searched, linear, reject
+        logical :: changed, searched, linear, reject, reuse
 
         if (present(unbalanced)) unbalanced = .false.
         if (present(stalled)) stalled = .false.
@@ -146,10 +146,19 @@ contains
                 result%stats%nnz = system%pattern%nnz
             end if
         end if
-        ! Predictor with the tangent at the start of the increment.
-        call factorise_at(model, library, state, state%stress, system, result, context, error, &
-                          contact=contact)
-        if (allocated(error)) return
+        ! Predictor with the tangent at the start of the increment; a rejected midpoint
+        ! increment redone from the same state takes back the factorisation of that tangent
+        ! kept from its first attempt (error control, without contact: CHOLMOD's only).
+        reuse = model%solver == solver_midpoint .and. model%error_tolerance > 0.0_dp .and. &
+                .not. state%has_contact
+        if (reuse .and. system%start_kept) then
+            call system%solver%restore()
+            system%start_kept = .false.
+        else
+            call factorise_at(model, library, state, state%stress, system, result, context, &
+                              error, contact=contact)
+            if (allocated(error)) return
+        end if
         ! With creep the start stresses less the stresses the increment's creep relaxes: the
         ! creep load joins the out-of-balance force (cfrd_creep_step).
         rhs_stress = state%stress
@@ -172,6 +181,7 @@ contains
             ! Midpoint: stresses half-way, the tangent there, and the increment again.
             call integrate_stress(model, library, state, 0.5_dp*du, stress_mid, stress_end, &
                                   .false., creep_share=0.5_dp)
+            if (reuse) call system%solver%keep(system%start_kept)
             call factorise_at(model, library, state, stress_mid, system, result, context, &
                               error, contact=contact)
             if (allocated(error)) return
@@ -304,6 +314,7 @@ contains
         if (state%has_contact) then
             if (searched) result%stats%searches = result%stats%searches + 1
         end if
+        system%start_kept = .false.
         state%u = state%u + du
         state%stress = stress_end
         state%f_ext = f_target

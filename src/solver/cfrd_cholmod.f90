@@ -54,6 +54,7 @@ module cfrd_cholmod
         procedure :: rcond
         procedure :: factor_nonzeros
         procedure :: release
+        procedure :: exchange
         final :: finalise
     end type cholmod_t
 
@@ -316,6 +317,46 @@ contains
         if (allocated(self%up_colptr)) deallocate (self%up_colptr)
         if (allocated(self%up_rowind)) deallocate (self%up_rowind, self%up_from, self%up_values)
     end subroutine release
+
+    !> Exchange the analyses and factorisations of two objects, freeing neither (a
+    !> factorisation set aside and taken back, cfrd_linear_solver's keep and restore).
+    subroutine exchange(self, other)
+        class(cholmod_t), intent(inout) :: self
+        type(cholmod_t), intent(inout) :: other
+        type(c_ptr) :: handle
+        integer(c_int), allocatable :: c_ints(:)
+        integer, allocatable :: ints(:)
+        real(c_double), allocatable :: reals(:)
+        integer :: number
+        logical :: flag
+        handle = self%handle
+        self%handle = other%handle
+        other%handle = handle
+        number = self%ordering
+        self%ordering = other%ordering
+        other%ordering = number
+        number = self%n
+        self%n = other%n
+        other%n = number
+        flag = self%analysed
+        self%analysed = other%analysed
+        other%analysed = flag
+        flag = self%factorised
+        self%factorised = other%factorised
+        other%factorised = flag
+        call move_alloc(self%up_colptr, c_ints)
+        call move_alloc(other%up_colptr, self%up_colptr)
+        call move_alloc(c_ints, other%up_colptr)
+        call move_alloc(self%up_rowind, c_ints)
+        call move_alloc(other%up_rowind, self%up_rowind)
+        call move_alloc(c_ints, other%up_rowind)
+        call move_alloc(self%up_from, ints)
+        call move_alloc(other%up_from, self%up_from)
+        call move_alloc(ints, other%up_from)
+        call move_alloc(self%up_values, reals)
+        call move_alloc(other%up_values, self%up_values)
+        call move_alloc(reals, other%up_values)
+    end subroutine exchange
 
     subroutine finalise(self)
         type(cholmod_t), intent(inout) :: self
