@@ -324,38 +324,36 @@ contains
         class(cholmod_t), intent(inout) :: self
         type(cholmod_t), intent(inout) :: other
         type(c_ptr) :: handle
-        integer(c_int), allocatable :: c_ints(:)
-        integer, allocatable :: ints(:)
-        real(c_double), allocatable :: reals(:)
-        integer :: number
-        logical :: flag
+        integer(c_int), allocatable :: colptr(:), rowind(:)
+        integer, allocatable :: from(:)
+        real(c_double), allocatable :: values(:)
+        integer :: numbers(2)
+        logical :: flags(2)
         handle = self%handle
+        numbers = [self%ordering, self%n]
+        flags = [self%analysed, self%factorised]
+        call move_alloc(self%up_colptr, colptr)
+        call move_alloc(self%up_rowind, rowind)
+        call move_alloc(self%up_from, from)
+        call move_alloc(self%up_values, values)
         self%handle = other%handle
-        other%handle = handle
-        number = self%ordering
         self%ordering = other%ordering
-        other%ordering = number
-        number = self%n
         self%n = other%n
-        other%n = number
-        flag = self%analysed
         self%analysed = other%analysed
-        other%analysed = flag
-        flag = self%factorised
         self%factorised = other%factorised
-        other%factorised = flag
-        call move_alloc(self%up_colptr, c_ints)
         call move_alloc(other%up_colptr, self%up_colptr)
-        call move_alloc(c_ints, other%up_colptr)
-        call move_alloc(self%up_rowind, c_ints)
         call move_alloc(other%up_rowind, self%up_rowind)
-        call move_alloc(c_ints, other%up_rowind)
-        call move_alloc(self%up_from, ints)
         call move_alloc(other%up_from, self%up_from)
-        call move_alloc(ints, other%up_from)
-        call move_alloc(self%up_values, reals)
         call move_alloc(other%up_values, self%up_values)
-        call move_alloc(reals, other%up_values)
+        other%handle = handle
+        other%ordering = numbers(1)
+        other%n = numbers(2)
+        other%analysed = flags(1)
+        other%factorised = flags(2)
+        call move_alloc(colptr, other%up_colptr)
+        call move_alloc(rowind, other%up_rowind)
+        call move_alloc(from, other%up_from)
+        call move_alloc(values, other%up_values)
     end subroutine exchange
 
     subroutine finalise(self)
