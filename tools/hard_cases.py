@@ -162,7 +162,9 @@ def case_no_converge():
 FINE_MU, FINE_P, FINE_NX = 0.5, 100.0, 32
 
 
-def fine_slave(title, faces=2, nx=FINE_NX):
+def fine_slave(title, faces=2, nx=FINE_NX, roles="ASIS"):
+    """roles ASIS: the fine slab stays the slave (friction per master segment); AUTO: the
+    roles are swapped, the foundation carries the multipliers (docs/theory.md section 14)."""
     d = Deck(title)
     d.materials = elastic(1, "foundation", *CUSHION[:2]) + elastic(2, "slab", *SLAB[:2])
     bg, be = d.rect(0.0, 0.0, 4.0, 1.0, faces, 1, 1, "BASE")
@@ -171,7 +173,7 @@ def fine_slave(title, faces=2, nx=FINE_NX):
     d.loads[""] = pressures(se[0], FINE_P)
     d.contact = [f"&SURFACE, SLABBOT, {se[0][0]}, 1, {len(se[0]) - 1}, 1",
                  f"&SURFACE, BASETOP, {be[-1][0]}, 3, {len(be[-1]) - 1}, 1",
-                 f"&PAIR, SLABBOT, BASETOP, {FINE_MU!r}, 0.0, MORTAR"]
+                 f"&PAIR, SLABBOT, BASETOP, {FINE_MU!r}, 0.0, MORTAR, LINEAR, 0, {roles}"]
     d.base_top, d.slab_faces = bg[-1], se[0]
     return d, sg
 
@@ -179,15 +181,22 @@ def fine_slave(title, faces=2, nx=FINE_NX):
 def case_fine_slave():
     """Friction with a slave 16 times finer than its master (issue 20): a stiff slab pressed
     on a soft foundation of two elements, then pushed along it by half the Coulomb force
-    (it must stick: closed form T < mu N), or dragged 5 cm (it must slip with mu N)."""
-    stick, sg = fine_slave("hard case: fine slave on a coarse master, stick")
-    push = 0.5 * FINE_MU * FINE_P * 4.0 / len(sg[1])
-    stick.loads["PUSH"] = [f"&FORCE, {sg[1][0]}, {sg[1][-1]}, 1, {push!r}, 0.0"]
-    stick.stages = ["&LOAD, , 1, , pressed", "&LOAD, PUSH, 2, , pushed by mu N / 2"]
-    slip, sg = fine_slave("hard case: fine slave on a coarse master, slip")
-    slip.fix([sg[0][0], sg[1][0]], 1, 0, ux=0.05)
-    slip.stages = ["&LOAD, , 5, , pressed and dragged 5 cm"]
-    return {"fine-stick.dat": stick, "fine-slip.dat": slip}
+    (it must stick: closed form T < mu N), or dragged 5 cm (it must slip with mu N); as
+    given (ROLES ASIS: friction per master segment) and with the roles swapped (-swap)."""
+    decks = {}
+    for tag, roles in (("", "ASIS"), ("-swap", "AUTO")):
+        swap = "" if roles == "ASIS" else ", roles swapped"
+        stick, sg = fine_slave("hard case: fine slave on a coarse master, stick" + swap,
+                               roles=roles)
+        push = 0.5 * FINE_MU * FINE_P * 4.0 / len(sg[1])
+        stick.loads["PUSH"] = [f"&FORCE, {sg[1][0]}, {sg[1][-1]}, 1, {push!r}, 0.0"]
+        stick.stages = ["&LOAD, , 1, , pressed", "&LOAD, PUSH, 2, , pushed by mu N / 2"]
+        slip, sg = fine_slave("hard case: fine slave on a coarse master, slip" + swap,
+                              roles=roles)
+        slip.fix([sg[0][0], sg[1][0]], 1, 0, ux=0.05)
+        slip.stages = ["&LOAD, , 5, , pressed and dragged 5 cm"]
+        decks.update({f"fine-stick{tag}.dat": stick, f"fine-slip{tag}.dat": slip})
+    return decks
 
 
 # The issue-20 pressure criterion where it is meaningful: a stiff slab of 16 faces (the
@@ -197,12 +206,13 @@ def case_fine_slave():
 SMOOTH_P, SMOOTH_NX = (100.0, 25.0), 16
 
 
-def smooth_deck(mu, faces, nx, title=None, held=None):
+def smooth_deck(mu, faces, nx, title=None, held=None, roles="ASIS"):
     """The fine-smooth slab (nx faces) on a foundation of `faces` elements (sides on rollers)
     under the linear load, friction mu (mu 0: the slab's bottom left node held horizontally,
     at ux = held if given)."""
     d, sg = fine_slave(title or f"hard case: fine slave, {faces}-face foundation, linear "
-                       f"load, mu {mu}", faces=faces, nx=nx)
+                       f"load, mu {mu}" + ("" if roles == "ASIS" else ", roles swapped"),
+                       faces=faces, nx=nx, roles=roles)
     d.contact[-1] = d.contact[-1].replace(f"{FINE_MU!r}, 0.0, MORTAR", f"{mu!r}, 0.0, MORTAR")
     d.fix([d.base_top[0], d.base_top[-1]], 1, 0)        # the foundation's sides on rollers
     if mu == 0.0:
@@ -220,10 +230,15 @@ def case_fine_smooth():
     left node held horizontally: a mechanism otherwise, its reaction zero) and with friction
     (held by friction alone); and the friction case on a foundation of two elements
     (fine-smooth-two-faces, 32 slave faces), whose pressure departs from the line at the
-    master node between them (reported, not asserted: docs/theory.md section 14)."""
-    return {name: smooth_deck(mu, faces, faces * SMOOTH_NX)[0] for name, mu, faces in
-            (("fine-smooth.dat", 0.0, 1), ("fine-smooth-friction.dat", FINE_MU, 1),
-             ("fine-smooth-two-faces.dat", FINE_MU, 2))}
+    master node between them (reported, not asserted: docs/theory.md section 14); all with
+    ROLES ASIS (friction per master segment), and the friction cases with the roles swapped
+    (-swap: the foundation carries the multipliers)."""
+    return {name: smooth_deck(mu, faces, faces * SMOOTH_NX, roles=roles)[0]
+            for name, mu, faces, roles in
+            (("fine-smooth.dat", 0.0, 1, "ASIS"), ("fine-smooth-friction.dat", FINE_MU, 1, "ASIS"),
+             ("fine-smooth-two-faces.dat", FINE_MU, 2, "ASIS"),
+             ("fine-smooth-friction-swap.dat", FINE_MU, 1, "AUTO"),
+             ("fine-smooth-two-faces-swap.dat", FINE_MU, 2, "AUTO"))}
 
 
 def case_rpim_bend():
@@ -269,10 +284,15 @@ def case_incipient_newton():
     on the x1 body, midpoint) solved by Newton to 1e-10 (the CONTROL line of
     `tools/tianshengqiao.py --solver newton`), so that its balance can be checked."""
     control = " 1133  920    6    1   101.325      9.81KN-M          0    1\n"
+    pair = "PAIR      SLABFACE  CUSHION        0.577     0.001MORTAR    LINEAR        1\n"
     return {"incipient-slip-newton.dat": Derived(
         "incipient-slip.dat", "* incipient-slip.dat with Newton to 1e-10 (written by "
         "tools/hard_cases.py --write, issue 20)\n",
-        [(control, control[:-2] + "31.0000E-10   30\n")])}
+        [(control, control[:-2] + "31.0000E-10   30\n")]),
+        "incipient-slip-asis.dat": Derived(
+        "incipient-slip.dat", "* incipient-slip.dat with ROLES ASIS: the fine slab stays the "
+        "slave, friction per master segment (written by tools/hard_cases.py --write)\n",
+        [(pair, pair[:-1] + " ASIS\n")])}
 
 
 def case_rpim_x1():
@@ -451,9 +471,40 @@ def notch_free_curvature(stage):
     return worst / max(p.max(), 1e-300)
 
 
-def fine_slab(cfrd, work, name, deck, balance):
+def multiplier_curvature(stage):
+    """The same measure at the multipliers' own nodes (the slave's, from the restart state:
+    the cushion's where the roles were swapped), in order along the surface (the direction of
+    the nodes' largest spread), at nodes whose two neighbours on either side are closed."""
+    if "m_p" not in stage:
+        return 0.0
+    on = np.where((stage["m_supported"] == 1) & (stage["m_node"] > 0))[0]
+    if len(on) < 5:
+        return 0.0
+    xy = np.column_stack([stage["m_x"][on], stage["m_y"][on]])
+    axis = np.linalg.svd(xy - xy.mean(axis=0))[2][0]
+    o = on[np.argsort(xy @ axis)]
+    p, st = stage["m_p"][o], stage["m_status"][o]
+    worst = max((abs(p[k - 1] - 2 * p[k] + p[k + 1]) for k in range(2, len(o) - 2)
+                 if all(st[k + d] != 0 for d in (-2, -1, 0, 1, 2))), default=0.0)
+    return worst / max(p.max(), 1e-300)
+
+
+def node_coulomb(stage, mu):
+    """The largest excess of |q| over mu p at a closed multiplier node, over mu times the
+    stage's largest pressure (Coulomb per node: <= 0 up to round-off)."""
+    if "m_p" not in stage or not np.any(stage["m_status"] != 0):
+        return 0.0
+    closed = stage["m_status"] != 0
+    return float(np.max(np.abs(stage["m_q"][closed]) - mu * stage["m_p"][closed]) /
+                 (mu * max(stage["m_p"].max(), 1e-300)))
+
+
+def fine_slab(cfrd, work, name, deck, balance, swapped=True):
     """The Tianshengqiao-I fine-slab deck: all 45 stages, no NaN, the shear tractions not
-    alternating (shear_alternation at most 0.1 at every stage), with Newton the balance."""
+    alternating (shear_alternation at most 0.1 at every stage), with Newton the balance.
+    With the roles swapped (docs/theory.md section 14): the issue's criterion on the
+    reported pressures along the slab (0.05), Coulomb per node at the multipliers' nodes
+    (1e-9 of mu max p), and the second difference at the multipliers' nodes (reported)."""
     r = Run(cfrd, work, deck)
     if not common(name, r, 0):
         return r, "did not run"
@@ -469,8 +520,19 @@ def fine_slab(cfrd, work, name, deck, balance):
     curvature = max(notch_free_curvature(stage) for stage in r.stages)
     outcome = f"completes 45 stages; shear sign changes {changes} of {pairs} neighbours " \
               f"(stage {at}); pressure second difference on notch-free parts up to " \
-              f"{curvature:.2f} of the peak (reported, not asserted)"
-    return r, outcome + (balance_check(name, r) if balance else "")
+              f"{curvature:.3f} of the peak"
+    if not swapped:
+        return r, outcome + " (reported, not asserted)" + (balance_check(name, r) if balance
+                                                            else "")
+    check(name + "/second-difference", curvature <= 0.05, f"|p_(i-1) - 2 p_i + p_(i+1)| "
+          f"along the slab at nodes with two closed neighbours on either side, the largest "
+          f"over the stages: {curvature:.4f} of the stage's peak (issue 20: 0.05)")
+    excess = max(node_coulomb(stage, 0.577) for stage in r.stages)
+    check(name + "/coulomb", excess <= 1e-9, f"Coulomb per multiplier node: the largest "
+          f"|q| - mu p at a closed node {excess:.1e} of mu max p (1e-9)")
+    at_nodes = max(multiplier_curvature(stage) for stage in r.stages)
+    return r, outcome + f" (0.05); at the multipliers' (cushion) nodes {at_nodes:.3f} " \
+        f"(reported); Coulomb per node {excess:.0e}" + (balance_check(name, r) if balance else "")
 
 
 def check_incipient_slip(cfrd, work):
@@ -481,27 +543,31 @@ def check_incipient_newton(cfrd, work):
     return fine_slab(cfrd, work, "incipient-newton", "incipient-slip-newton.dat", True)
 
 
-def check_fine_stick(cfrd, work):
-    r, s = finished(cfrd, work, "fine-stick", "fine-stick.dat")
+def check_incipient_asis(cfrd, work):
+    return fine_slab(cfrd, work, "incipient-asis", "incipient-slip-asis.dat", False, False)
+
+
+def check_fine_stick(cfrd, work, name="fine-stick"):
+    r, s = finished(cfrd, work, name, name + ".dat")
     if s is None:
         return r, "did not run"
     closed, slipping = int(np.count_nonzero(s["c_status"])), int(np.sum(s["c_status"] == 2))
     push = 0.5 * FINE_MU * FINE_P * 4.0
-    check("fine-stick/stick", slipping == 0 and closed >= 30, f"pushed by T = mu N / 2 = "
+    check(name + "/stick", slipping == 0 and closed >= 30, f"pushed by T = mu N / 2 = "
           f"{push:.0f} kN/m: {closed} of 33 slave nodes closed, {slipping} slip (closed form, "
           f"Coulomb on the slab: T < mu N = {2 * push:.0f} kN/m, it sticks; without friction "
           f"per master segment 15 nodes slip)")
     fx = float(s["reaction"][:3, 0].sum())           # the foundation's base
     e = abs(fx + push) / push
-    check("fine-stick/statics", e <= 1e-9, f"the foundation's horizontal reaction {fx:.6f} "
+    check(name + "/statics", e <= 1e-9, f"the foundation's horizontal reaction {fx:.6f} "
           f"kN/m against -T (statics): {e:.1e} (1e-9)")
     changes, pairs = shear_alternation(s)
     return r, f"converged; {slipping} of {closed} closed nodes slip (T = mu N / 2), " \
               f"shear sign changes {changes} of {pairs}"
 
 
-def check_fine_slip(cfrd, work):
-    r, s = finished(cfrd, work, "fine-slip", "fine-slip.dat")
+def check_fine_slip(cfrd, work, name="fine-slip"):
+    r, s = finished(cfrd, work, name, name + ".dat")
     if s is None:
         return r, "did not run"
     nb = 6                                        # foundation nodes first, then the slab's
@@ -511,7 +577,7 @@ def check_fine_slip(cfrd, work):
     # the deformed foundation's faces tilt the contact normals (as long-slip)
     tilt = float(np.max(np.abs(s["displacement"][:nb]))) / (4.0 / 2)
     closed = s["c_status"] != 0
-    check("fine-slip/friction", e <= tilt and np.all(s["c_status"][closed] == 2) and
+    check(name + "/friction", e <= tilt and np.all(s["c_status"][closed] == 2) and
           np.all(s["c_slip"][closed] > 0.0), f"drag force {fx:.4f} kN/m against mu N = "
           f"{expect:.0f} (Coulomb, closed form): {e:.1e} (the foundation's tilt, max |u| / "
           f"2 m = {tilt:.1e}); {int(closed.sum())} closed slave nodes, all slipping forward")
@@ -576,13 +642,24 @@ def check_fine_smooth(cfrd, work):
     out = []
     load = (SMOOTH_P[0] + SMOOTH_P[1]) / 2 * 4.0               # closed form: 250 kN/m
     for name, faces in (("fine-smooth", 1), ("fine-smooth-friction", 1),
-                        ("fine-smooth-two-faces", 2)):
+                        ("fine-smooth-two-faces", 2), ("fine-smooth-friction-swap", 1),
+                        ("fine-smooth-two-faces-swap", 2)):
         r, s = finished(cfrd, work, name, name + ".dat")
         if s is None:
             return r, "did not run"
         p, q, st, w, o = surface_profile(s)
         d2 = np.abs(p[:-2] - 2 * p[1:-1] + p[2:]) / p.max()
-        if faces == 1:
+        swapped = name.endswith("-swap")
+        if swapped:
+            # the multipliers at the foundation's nodes, the slab's reported by interpolation
+            excess = node_coulomb(s, FINE_MU)
+            check(name + "/second-difference", d2.max() <= 0.05 and np.all(st != 0) and
+                  excess <= 1e-9, f"roles swapped (the foundation carries the multipliers): "
+                  f"|p_(i-1) - 2 p_i + p_(i+1)| along the slab at its {len(d2)} interior nodes "
+                  f"up to {d2.max():.4f} of the peak {p.max():.2f} kPa (issue 20: 0.05); "
+                  f"{int(np.sum(st != 0))} of {len(st)} closed; Coulomb per multiplier node "
+                  f"{excess:.1e} of mu max p (1e-9)")
+        elif faces == 1:
             check(name + "/second-difference", d2.max() <= 0.05 and np.all(st != 0),
                   f"|p_(i-1) - 2 p_i + p_(i+1)| at the {len(d2)} interior slave nodes up to "
                   f"{d2.max():.4f} of the peak {p.max():.2f} kPa (issue 20: 0.05; the load is "
@@ -602,7 +679,7 @@ def check_fine_smooth(cfrd, work):
               f"against it {e_n:.1e} (the faces' strain + rotation^2, {bound:.1e})"
               + (f"; {slips} closed nodes slip (no tangential load: stick)"
                  if "friction" in name else ""))
-        if faces > 1:
+        if faces > 1 and not swapped:
             # the pressure peaks at the master node (reported): why, by superposition
             ps, _ = smooth_two_faces_sheared(cfrd, work, s, False)
             e_sup = float(np.max(np.abs(ps - p)) / p.max())
@@ -622,7 +699,7 @@ def check_fine_smooth(cfrd, work):
                   f"{held:.1e} kN/m (1e-6 of the load: the shear is self-equilibrated)")
         at = float(s["c_x"][o][1 + int(np.argmax(d2))])
         out.append(f"{name}: second difference {d2.max():.3f} of the peak (x {at:g} m"
-                   + (", the master node: reported)" if faces > 1 else ")")
+                   + (", the master node: reported)" if faces > 1 and not swapped else ")")
                    + f", normal force {e_n:.0e}")
     return r, "converged; " + "; ".join(out)
 
@@ -733,8 +810,14 @@ CASES = [("liftoff", "full lift-off of the slab and re-closure", check_liftoff),
          ("incipient-slip", "Tianshengqiao fine slab (incipient slip at stage 15), midpoint",
           check_incipient_slip),
          ("incipient-newton", "the same deck with Newton to 1e-10", check_incipient_newton),
+         ("incipient-asis", "the same deck, midpoint, ROLES ASIS (friction per master segment)",
+          check_incipient_asis),
          ("fine-stick", "fine slave on a coarse master pushed by mu N / 2", check_fine_stick),
          ("fine-slip", "fine slave on a coarse master dragged", check_fine_slip),
+         ("fine-stick-swap", "the same pushed, roles swapped (the master carries the "
+          "multipliers)", lambda c, w: check_fine_stick(c, w, "fine-stick-swap")),
+         ("fine-slip-swap", "the same dragged, roles swapped",
+          lambda c, w: check_fine_slip(c, w, "fine-slip-swap")),
          ("fine-smooth", "fine slave, 16 faces per master face, linear load, mu 0 and 0.5 "
           "on one face, 0.5 on two", check_fine_smooth),
          ("rpim-bend", "RPIM master face placed in two layers (a bend at the boundary)",

@@ -8,6 +8,7 @@ module cfrd_deck_contact
                           scheme_nts, search_linear, search_rpim, is_joint_kind
     use cfrd_cards, only: field_error, card_error, upper, to_text
     use cfrd_card_schema, only: surface_fields, pair_fields
+    use cfrd_contact_roles, only: assign_roles
     use cfrd_card_reader, only: card_values_t, read_card, raw_text
     use cfrd_deck_groups, only: group_cards_t
     implicit none
@@ -137,9 +138,10 @@ contains
                                      'scheme)', v%text(7))
                     return
                 end if
-                call read_card(file, card, pair_fields, ctx, v, error, only=[8])
+                call read_card(file, card, pair_fields, ctx, v, error, only=[8, 9])
                 if (allocated(error)) return
                 pair%cast = v%int(8) == 1
+                pair%roles_asis = v%int(9) == 2
                 ! Two independent bodies: no node on both surfaces.
                 allocate (owner(model%mesh%nnode), source=0)
                 do j = 1, size(model%surfaces(pair%slave)%element)
@@ -157,6 +159,7 @@ contains
                     end if
                 end do
                 deallocate (owner)
+                call assign_roles(model, pair)
                 model%contact_pairs = [model%contact_pairs, pair]
             end associate
         end do
