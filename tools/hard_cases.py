@@ -241,6 +241,25 @@ def case_fine_smooth():
              ("fine-smooth-two-faces-swap.dat", FINE_MU, 2, "AUTO"))}
 
 
+def case_cast_swap():
+    """CAST with the roles swapped (issue 20): a foundation of two elements settles under its
+    weight, then a slab of 32 faces is cast on it (FILL). The slab is 16 times finer, so the
+    foundation carries the multipliers and the slab's nodes, now the master's, must be put on
+    the settled face when placed (docs/theory.md section 14, "Roles"); without that they
+    would float above it by the settlement and the slab, held by nothing else, would fall."""
+    d = Deck("hard case: fine slab cast on a settled coarse foundation, roles swapped")
+    d.materials = elastic(1, "foundation", *CUSHION) + elastic(2, "slab", *SLAB)
+    bg, be = d.rect(0.0, 0.0, 4.0, 1.0, 2, 1, 1, "BASE")
+    sg, se = d.rect(0.0, 1.0, 4.0, 0.25, FINE_NX, 1, 2, "SLAB")
+    d.fix(bg[0], 1, 1)
+    d.fix([bg[1][0], bg[1][-1]], 1, 0)                 # the foundation's sides on rollers
+    d.contact = [f"&SURFACE, SLABBOT, {se[0][0]}, 1, {len(se[0]) - 1}, 1",
+                 f"&SURFACE, BASETOP, {be[-1][0]}, 3, {len(be[-1]) - 1}, 1",
+                 f"&PAIR, SLABBOT, BASETOP, {FINE_MU!r}, 0.0, MORTAR, LINEAR, 1"]
+    d.stages = ["&FILL, BASE, 1, , foundation settles", "&FILL, SLAB, 2, , slab cast on it"]
+    return {"cast-swap.dat": d}
+
+
 def case_rpim_bend():
     """A slab against the face of a body placed in two layers (issue 20): the second layer's
     nodes start at their design place while the first layer's top has settled, so the face in
@@ -308,7 +327,7 @@ def case_rpim_x1():
 CASE_DECKS = (case_liftoff, case_long_slip, lambda: {"contrast.dat": column(
     "hard case: kn / E = 1e6, E slab / E cushion = 1e5", "JOINT")}, lambda: {
     "thin-0001.dat": column("hard case: thin layer of aspect ratio 0.001", "THIN", 0.001)},
-    case_rockfill, case_drawdown, case_mechanism, case_no_converge, case_rpim_bend,
+    case_rockfill, case_drawdown, case_mechanism, case_no_converge, case_rpim_bend, case_cast_swap,
     case_fine_slave, case_fine_smooth, case_incipient_newton, case_rpim_x1)
 
 
@@ -704,6 +723,34 @@ def check_fine_smooth(cfrd, work):
     return r, "converged; " + "; ".join(out)
 
 
+def check_cast_swap(cfrd, work):
+    r, s = finished(cfrd, work, "cast-swap", "cast-swap.dat")
+    if s is None:
+        return r, "did not run"
+    p, q, st, w, o = surface_profile(s)
+    weight = SLAB[2] * 0.25 * 4.0                       # 24 kN/m
+    total = CUSHION[2] * 1.0 * 4.0 + weight
+    fy = float(s["reaction"][:3, 1].sum())              # the foundation's base nodes
+    e_base = abs(fy - total) / total
+    e_n = abs(float(np.sum(w * p)) - weight) / weight
+    settled = float(-np.min(s["displacement"][3:6, 1]))  # the foundation's top, slab included
+    # the couplings are built at the geometry of the increment's start: the face moves by
+    # the increment's displacement, at most the settlement, over its 4 m (as drawdown's)
+    bound = settled / 4.0
+    gap = float(np.max(np.abs(s["c_gap"])))
+    check("cast-swap/cast", np.all(st != 0) and int(np.sum(st == 2)) == 0 and e_base <= 1e-9
+          and e_n <= bound, f"{int(np.sum(st != 0))} of {len(st)} slab nodes closed, "
+          f"{int(np.sum(st == 2))} slip (cast on the settled face, no tangential load); the base "
+          f"reaction {fy:.9f} kN/m against the weights 84 + 24 = {total:.0f} (statics): "
+          f"{e_base:.1e} (1e-9); the contact's normal force sum w p against the slab's weight "
+          f"{weight:.0f} kN/m: {e_n:.1e} (the geometry's update, settlement / 4 m = {bound:.1e})")
+    return r, f"converged; all {len(st)} slab nodes closed, none slips; pressure " \
+              f"{p.min():.4f}-{p.max():.4f} kPa against gamma t = {weight / 4.0:.0f} (the " \
+              f"foundation in 1-D compression; reported); contact force " \
+              f"{e_n:.0e} from the slab's weight; largest |gap| {gap:.1e} m (the face settled " \
+              f"{settled:.1e} m)"
+
+
 def master_refinement(cfrd, work):
     """Issue 20's criterion on the fine-smooth deck with friction as the foundation is
     refined (docs/theory.md section 14; measured, not asserted): the slab of 32 faces on 1-32
@@ -820,6 +867,8 @@ CASES = [("liftoff", "full lift-off of the slab and re-closure", check_liftoff),
           lambda c, w: check_fine_slip(c, w, "fine-slip-swap")),
          ("fine-smooth", "fine slave, 16 faces per master face, linear load, mu 0 and 0.5 "
           "on one face, 0.5 on two", check_fine_smooth),
+         ("cast-swap", "fine slab cast (CAST 1) on a settled coarse foundation, roles swapped",
+          check_cast_swap),
          ("rpim-bend", "RPIM master face placed in two layers (a bend at the boundary)",
           check_rpim_bend),
          ("rpim-x1", "Tianshengqiao-I contact deck at x1, SEARCH RPIM, midpoint",
