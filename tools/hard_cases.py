@@ -311,7 +311,11 @@ def case_incipient_newton():
         "incipient-slip-asis.dat": Derived(
         "incipient-slip.dat", "* incipient-slip.dat with ROLES ASIS: the fine slab stays the "
         "slave, friction per master segment (written by tools/hard_cases.py --write)\n",
-        [(pair, pair[:-1] + " ASIS\n")])}
+        [(pair, pair[:-1] + " ASIS\n")]),
+        "incipient-slip-rpim.dat": Derived(
+        "incipient-slip.dat", "* incipient-slip.dat with SEARCH RPIM: the roles swapped, the "
+        "curve runs through the slab's nodes (written by tools/hard_cases.py --write)\n",
+        [(pair, pair.replace("LINEAR", "RPIM  "))])}
 
 
 def case_rpim_x1():
@@ -560,6 +564,10 @@ def check_incipient_slip(cfrd, work):
 
 def check_incipient_newton(cfrd, work):
     return fine_slab(cfrd, work, "incipient-newton", "incipient-slip-newton.dat", True)
+
+
+def check_incipient_rpim(cfrd, work):
+    return fine_slab(cfrd, work, "incipient-rpim", "incipient-slip-rpim.dat", False)
 
 
 def check_incipient_asis(cfrd, work):
@@ -859,6 +867,8 @@ CASES = [("liftoff", "full lift-off of the slab and re-closure", check_liftoff),
          ("incipient-newton", "the same deck with Newton to 1e-10", check_incipient_newton),
          ("incipient-asis", "the same deck, midpoint, ROLES ASIS (friction per master segment)",
           check_incipient_asis),
+         ("incipient-rpim", "the same deck, midpoint, SEARCH RPIM (the roles swapped: the "
+          "curve through the slab's nodes)", check_incipient_rpim),
          ("fine-stick", "fine slave on a coarse master pushed by mu N / 2", check_fine_stick),
          ("fine-slip", "fine slave on a coarse master dragged", check_fine_slip),
          ("fine-stick-swap", "the same pushed, roles swapped (the master carries the "
