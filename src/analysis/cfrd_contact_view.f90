@@ -31,8 +31,8 @@ contains
         real(dp), intent(in) :: open_limit         !! m, a gap above it is separated
         type(contact_t) :: view
         integer, allocatable :: index_of(:), cseg(:, :)
-        real(dp), allocatable :: x(:, :)
-        integer :: ip, k, c, j, nv, ns
+        real(dp), allocatable :: x(:, :), half(:)
+        integer :: ip, k, c, j, nv, ns, nf
         if (.not. any(model%contact_pairs%swapped)) then
             view = contact
             return
@@ -69,15 +69,25 @@ contains
                                                                    [2, size(cseg, 2) + 1])
             end do
             ns = size(view%node)
+            nf = size(view%seg, 2)
             do k = 1, size(contact%mseg, 2)
                 if (contact%mseg_pair(k) /= ip) cycle
                 call add_face(contact%mseg(:, k), contact%mseg_element(k))
                 if (.not. active(contact%mseg_element(k))) cycle
                 view%placed(index_of(contact%mseg(:, k))) = .true.
             end do
+            ! half the length of a reported node's active faces, the larger one
+            allocate (half(size(view%node)), source=0.0_dp)
+            do k = nf + 1, size(view%seg, 2)
+                if (.not. active(view%seg_element(k))) cycle
+                half(view%seg(:, k)) = max(half(view%seg(:, k)), 0.5_dp* &
+                                           norm2(x(:, view%node(view%seg(2, k))) - &
+                                                 x(:, view%node(view%seg(1, k)))))
+            end do
             do j = ns + 1, size(view%node)
                 if (view%placed(j)) call evaluate(j, cseg)
             end do
+            deallocate (half)
         end do
         view%nc = size(view%node)
         view%s = arc_lengths(model, view)
@@ -106,25 +116,28 @@ contains
             view%seg_element = [view%seg_element, element]
         end subroutine add_face
 
-        !> Reported node j of a swapped pair from the nearest active slave face.
+        !> Reported node j of a swapped pair from the nearest active slave face; a node that
+        !> overhangs the slave surface by half its faces or more (its tributary beyond that
+        !> face's end: the rule of an unsupported slave node) is open and carries nothing.
         subroutine evaluate(j, faces)
             integer, intent(in) :: j, faces(:, :)
-            real(dp) :: xi, best, dist, xi_best, n(2)
+            real(dp) :: xi, best, dist, xi_best, n(2), xi_free, length
             integer :: f, a, b, near
             best = huge(1.0_dp)
             near = 0
             xi_best = 0.0_dp
+            xi_free = 0.0_dp
             do f = 1, size(faces, 2)
                 associate (xa => x(:, contact%node(faces(1, f))), &
                            xb => x(:, contact%node(faces(2, f))), p => x(:, view%node(j)))
                     xi = dot_product(p - xa, xb - xa)/max(dot_product(xb - xa, xb - xa), &
                                                           tiny(1.0_dp))
-                    xi = min(1.0_dp, max(0.0_dp, xi))
-                    dist = norm2(p - (xa + xi*(xb - xa)))
+                    dist = norm2(p - (xa + min(1.0_dp, max(0.0_dp, xi))*(xb - xa)))
                     if (dist < best) then
                         best = dist
                         near = f
-                        xi_best = xi
+                        xi_free = xi
+                        xi_best = min(1.0_dp, max(0.0_dp, xi))
                     end if
                 end associate
             end do
@@ -145,6 +158,8 @@ contains
             else
                 view%status(j) = contact%status(merge(a, b, contact%status(a) /= contact_open))
             end if
+            length = norm2(x(:, contact%node(b)) - x(:, contact%node(a)))
+            if (max(-xi_free, xi_free - 1.0_dp)*length >= half(j)) view%status(j) = contact_open
             view%slip(j) = (1.0_dp - xi)*contact%slip(a) + xi*contact%slip(b)
             if (view%status(j) == contact_open) return
             view%p(j) = (1.0_dp - xi)*contact%p(a) + xi*contact%p(b)
