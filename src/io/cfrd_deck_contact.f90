@@ -1,7 +1,8 @@
 !> CONTACT: SURFACE cards (element faces, generated with NGEN and INC; cards of one name
 !> add up) and PAIR cards (slave, master, friction, closure tolerance, scheme, search, cast
-!> in place); docs/cards.md, CONTACT. The fields are read and checked against the card
-!> schema; here remain the checks against the mesh and between the surfaces.
+!> in place, roles); docs/cards.md, CONTACT. The fields are read and checked against the card
+!> schema; here remain the checks against the mesh and between the surfaces, and the roles
+!> (cfrd_contact_roles: a much finer slave made the master).
 module cfrd_deck_contact
     use cfrd_error, only: error_t, fatal_error, input_error
     use cfrd_model, only: model_t, contact_surface_t, contact_pair_t, scheme_mortar, &
