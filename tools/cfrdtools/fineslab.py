@@ -229,6 +229,10 @@ def fine_slab(cfrd, work, name, deck, balance, swapped=True):
     if not swapped:
         return r, outcome + " (reported, not asserted)" + (balance_check(name, r) if balance
                                                             else "")
+    listing = open(r.deck[:-4] + ".out").read()
+    check(name + "/listing", "roles swapped: the card's slave SLABFACE is much finer than its "
+          "master CUSHION" in listing, "the listing names the pair whose roles were swapped "
+          "and why (docs/theory.md section 14)")
     check(name + "/second-difference", curvature <= 0.05, f"|p_(i-1) - 2 p_i + p_(i+1)| "
           f"along the slab at nodes with two closed neighbours on either side, the largest "
           f"over the stages: {curvature:.4f} of the stage's peak (issue 20: 0.05)")
