@@ -11,6 +11,7 @@ module cfrd_listing
     use cfrd_model, only: model_t, law_name, dry_level, law_goodman, law_pjoint, &
                           is_joint_kind, scheme_name, search_name, scheme_mortar
     use cfrd_contact, only: friction_group_ratio
+    use cfrd_contact_roles, only: mean_face
     use cfrd_results, only: stage_result_t
     use cfrd_stage_summary, only: stage_summary_t
     use cfrd_columns, only: csv_real, date_of, level_of, run_id_comment
@@ -151,11 +152,22 @@ contains
                             trim(merge('yes', 'no ', pair%cast))
                         ! a slave much finer than its master: friction per master segment
                         if (pair%friction > 0.0_dp .and. pair%scheme == scheme_mortar .and. &
-                            mean_face(pair%master) >= friction_group_ratio* &
-                            mean_face(pair%slave)) write (unit, '(7x,a,f6.1,a)') &
-                            'the slave''s faces are', mean_face(pair%master)/ &
-                            mean_face(pair%slave), ' times shorter than the master''s: '// &
+                            mean_face(model, pair%master) >= friction_group_ratio* &
+                            mean_face(model, pair%slave)) write (unit, '(7x,a,f6.1,a)') &
+                            'the slave''s faces are', mean_face(model, pair%master)/ &
+                            mean_face(model, pair%slave), ' times shorter than the master''s: '// &
                             'friction per master segment (docs/theory.md section 14)'
+                        if (pair%swapped) write (unit, '(7x,5a,f6.3,3a,f6.3,a)') 'roles '// &
+                            'swapped: the card''s slave ', trim(model%surfaces(pair%master)%name), &
+                            ' is much finer than its master ', &
+                            trim(model%surfaces(pair%slave)%name), ' (mean face ', &
+                            mean_face(model, pair%master), ' m against ', &
+                            trim(model%surfaces(pair%slave)%name), '''s ', &
+                            mean_face(model, pair%slave), ' m): '
+                        if (pair%swapped) write (unit, '(9x,3a)') &
+                            trim(model%surfaces(pair%slave)%name), ' carries the multipliers, '// &
+                            'results at the nodes of ', trim(model%surfaces(pair%master)%name)// &
+                            ' (ROLES ASIS keeps the card''s roles; docs/theory.md section 14)'
                     end associate
                 end do
             end if
@@ -168,22 +180,6 @@ contains
                 end do
             end if
         end if
-    contains
-        !> The mean length of a surface's faces at the coordinates of the deck.
-        real(dp) function mean_face(k)
-            integer, intent(in) :: k
-            integer :: j, e, f
-            mean_face = 0.0_dp
-            associate (surface => model%surfaces(k), mesh => model%mesh)
-                do j = 1, size(surface%element)
-                    e = surface%element(j)
-                    f = surface%face(j)
-                    mean_face = mean_face + norm2(mesh%x(:, mesh%conn(mod(f, 4) + 1, e)) - &
-                                                  mesh%x(:, mesh%conn(f, e)))
-                end do
-                mean_face = mean_face/max(size(surface%element), 1)
-            end associate
-        end function mean_face
     end subroutine write_model_summary
 
     !> One line per stage: what it did, how the solution went, the extreme displacements.
