@@ -8,12 +8,15 @@ alike; per program the minimum over the rounds of the wall time and of the CPU t
     python3 tools/bench_small.py --cfrd OLD/cfrd,bin/cfrd [--sizes 1000,10000,100000]
                                  [--repeat 3] [--workdir build/bench-small] [--no-ccx]
 
+An entry of --cfrd may carry options after the program ("bin/cfrd --compress 0").
+
 Prints a markdown table. CPU time is less disturbed by the other processes of a shared
 machine than wall time (it does not count the time the process waits for a core).
 """
 
 import argparse
 import os
+import shlex
 import subprocess
 import sys
 import time
@@ -42,7 +45,7 @@ def main(argv=None):
     ap.add_argument("--no-ccx", action="store_true")
     args = ap.parse_args(argv)
     os.makedirs(args.workdir, exist_ok=True)
-    programs = [os.path.abspath(p) for p in args.cfrd.split(",") if p]
+    programs = [p.strip() for p in args.cfrd.split(",") if p.strip()]
     names = programs + ([] if args.no_ccx else ["ccx"])
     print("| elements | program | wall s | CPU s (user + sys) | user s | sys s | wall / ccx "
           "| CPU / ccx |")
@@ -55,7 +58,9 @@ def main(argv=None):
         runs = {p: [] for p in names}
         for _ in range(args.repeat):
             for p in names:
-                cmd = ["ccx", "-i", job] if p == "ccx" else [p, os.path.abspath(deck), "--quiet"]
+                cmd = ["ccx", "-i", job] if p == "ccx" else (
+                    [os.path.abspath(shlex.split(p)[0])] + shlex.split(p)[1:]
+                    + [os.path.abspath(deck), "--quiet"])
                 runs[p].append(timed(cmd, args.workdir))
         best = {p: (min(r[0] for r in runs[p]), min(r[1] + r[2] for r in runs[p]),
                     min(r[1] for r in runs[p]), min(r[2] for r in runs[p])) for p in names}
