@@ -25,7 +25,12 @@ module cfrd_fast_format
     implicit none
     private
 
-    public :: put_int, put_fixed, put_sci, put_text, end_line
+    public :: put_int, put_fixed, put_sci, put_text, end_line, next_line, write_lines
+    public :: block_chars, line_max
+
+    !> Tables are made in blocks of lines (next_line, write_lines) of at most line_max
+    !> characters each with its line end, block_chars in all (4096 such lines).
+    integer, parameter :: line_max = 128, block_chars = 4096*line_max
 
     !> Decision margin on the fraction of the scaled value, well above its error bound.
     real(dp), parameter :: margin = 1.0e-6_dp
@@ -118,7 +123,14 @@ contains
         logical :: ok
         ok = .false.
         first = len(text)
-        if (ieee_is_finite(x) .and. x /= 0.0_dp .and. d >= 1 .and. d <= 7) then
+        if (x == 0.0_dp .and. d >= 1 .and. d <= 7) then
+            if (sign(1.0_dp, x) > 0.0_dp) then       ! +0: 0.0...0E+00 (-0 to the WRITE)
+                text = '0.'//repeat('0', d)//'E+00'
+                text = adjustr(text)
+                call place(buf, pos, x, w, d, 'es', .true., text, len(text) - d - 5)
+                return
+            end if
+        else if (ieee_is_finite(x) .and. d >= 1 .and. d <= 7) then
             low = pow10(d)                  ! the d+1 digits of the mantissa: [low, high)
             high = pow10(d + 1)
             e10 = floor(log10(abs(x)))
@@ -185,6 +197,36 @@ contains
         end if
         pos = pos + w
     end subroutine place
+
+    !> End the line being made in buf; write the block to unit when it is full. With
+    !> `stat` (and `msg`), the WRITE's iostat: nothing is written once it is not 0.
+    subroutine next_line(unit, buf, pos, stat, msg)
+        integer, intent(in) :: unit
+        character(len=*), intent(inout) :: buf
+        integer, intent(inout) :: pos
+        integer, intent(inout), optional :: stat
+        character(len=*), intent(inout), optional :: msg
+        call end_line(buf, pos)
+        if (pos > len(buf) - line_max) call write_lines(unit, buf, pos, stat, msg)
+    end subroutine next_line
+
+    !> Write the lines made in buf(1:pos-1), each ended by a line end, as one record whose
+    !> own end is the last line's, and empty buf; nothing when there are none.
+    subroutine write_lines(unit, buf, pos, stat, msg)
+        integer, intent(in) :: unit
+        character(len=*), intent(in) :: buf
+        integer, intent(inout) :: pos
+        integer, intent(inout), optional :: stat
+        character(len=*), intent(inout), optional :: msg
+        if (pos > 1) then
+            if (.not. present(stat)) then
+                write (unit, '(a)') buf(1:pos - 2)
+            else if (stat == 0) then
+                write (unit, '(a)', iostat=stat, iomsg=msg) buf(1:pos - 2)
+            end if
+        end if
+        pos = 1
+    end subroutine write_lines
 
     !> n = |x| 10^d rounded to the nearest integer, ok when that is certain (see the module).
     pure subroutine round_scaled(ax, d, n, ok)

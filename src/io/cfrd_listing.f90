@@ -20,16 +20,14 @@ module cfrd_listing
     use cfrd_effects, only: effects_text
     use cfrd_pjoint_io, only: write_pjoint_table
     use cfrd_run_identity, only: run_identity_t
-    use cfrd_fast_format, only: put_int, put_fixed, put_sci, end_line
+    use cfrd_fast_format, only: put_int, put_fixed, put_sci, next_line, write_lines, &
+                                block_chars
     implicit none
     private
 
     public :: write_listing, write_summary, write_gauge_csv
 
     character(len=*), parameter :: rule = repeat('-', 100)
-    !> The long tables are made in blocks of block_lines lines of at most line_max
-    !> characters (with the line end).
-    integer, parameter :: block_lines = 4096, line_max = 128
 
 contains
 
@@ -312,7 +310,7 @@ contains
             '   UX TOTAL (m)   UY TOTAL (m)'
         ! The long tables: the characters of the formats in the comments, made by
         ! cfrd_fast_format into blocks of lines written at once (docs/performance.md (r)).
-        allocate (character(len=block_lines*line_max) :: buf)
+        allocate (character(len=block_chars) :: buf)
         pos = 1
         do node = 1, model%mesh%nnode                   ! (i7,2f15.4,4es15.6)
             call put_int(buf, pos, node, 7)
@@ -367,25 +365,6 @@ contains
         write (unit, '(a,es10.2)') ' RELATIVE IMBALANCE |APPLIED + REACTIONS| / |APPLIED| =', &
             imbalance
     end subroutine write_stage
-
-    !> End the line being made in buf; write the block when it is full.
-    subroutine next_line(unit, buf, pos)
-        integer, intent(in) :: unit
-        character(len=*), intent(inout) :: buf
-        integer, intent(inout) :: pos
-        call end_line(buf, pos)
-        if (pos > len(buf) - line_max) call write_lines(unit, buf, pos)
-    end subroutine next_line
-
-    !> Write the lines made in buf(1:pos-1) (each ended by a line end) as one record whose
-    !> own end is the last line's, and empty buf; nothing when there are none.
-    subroutine write_lines(unit, buf, pos)
-        integer, intent(in) :: unit
-        character(len=*), intent(in) :: buf
-        integer, intent(inout) :: pos
-        if (pos > 1) write (unit, '(a)') buf(1:pos - 2)
-        pos = 1
-    end subroutine write_lines
 
     !> The solver's figures: the last stage's and the sums over all stages.
     subroutine write_solver(unit, model, summaries)
