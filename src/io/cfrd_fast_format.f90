@@ -3,8 +3,8 @@
 !> arithmetic where they are provably the same and by an internal WRITE of the one field
 !> elsewhere. A formatted WRITE costs about a microsecond a number in libgfortran, and the
 !> listing's node, element and reaction tables (seven numbers a line, every node and
-!> element, as the legacy codes print) took a sixth of a 10^4-quad run (docs/performance.md
-!> (r)).
+!> element, as the legacy codes print) took a tenth of a 10^4-quad run's CPU time
+!> (docs/performance.md (r)); the legacy listing prints such tables after every stage.
 !>
 !> Why the fast text is the WRITE's: a real x is scaled by an exact power of ten (10^k,
 !> |k| <= 22, is a double) in one multiplication or division, so that y = |x| 10^k carries a
@@ -12,8 +12,9 @@
 !> WRITE rounds the exact binary value to the nearest integer of y (gfortran's default
 !> rounding: the C library's correctly rounded conversion). When the fraction of the computed
 !> y is further than `margin` (1e-6) from one half, the exact value rounds to the same
-!> integer: the fast text is taken. Otherwise (a tie or near one), for zeros of either sign
-!> and negative values that round to zero (whose signs compilers print differently), NaN,
+!> integer: the fast text is taken (+0 is 0.0...0 and 0.0...0E+00). Otherwise (a tie or
+!> near one), for -0 and negative values that round to zero (whose signs compilers print
+!> differently), NaN,
 !> infinities, exponents beyond two digits and fields too narrow, the field is written by an
 !> internal WRITE with the same descriptor, which is by definition the WRITE's text.
 !> test/test_io_fast_format.f90 holds every path against the intrinsic WRITE.
