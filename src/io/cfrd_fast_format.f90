@@ -14,9 +14,9 @@
 !> y is further than `margin` (1e-6) from one half, the exact value rounds to the same
 !> integer: the fast text is taken (+0 is 0.0...0 and 0.0...0E+00). Otherwise (a tie or
 !> near one), for -0 and negative values that round to zero (whose signs compilers print
-!> differently), NaN,
-!> infinities, exponents beyond two digits and fields too narrow, the field is written by an
-!> internal WRITE with the same descriptor, which is by definition the WRITE's text.
+!> differently), NaN, infinities, exponents beyond two digits and fields too narrow, the
+!> field is written by an internal WRITE with the same descriptor, which is by definition
+!> the WRITE's text.
 !> test/test_io_fast_format.f90 holds every path against the intrinsic WRITE.
 module cfrd_fast_format
     use, intrinsic :: iso_fortran_env, only: int64
