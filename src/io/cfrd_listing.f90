@@ -21,6 +21,8 @@ module cfrd_listing
     use cfrd_effects, only: effects_text
     use cfrd_pjoint_io, only: write_pjoint_table
     use cfrd_run_identity, only: run_identity_t
+    use cfrd_fast_format, only: put_int, put_fixed, put_sci, next_line, write_lines, &
+                                block_chars
     implicit none
     private
 
@@ -291,8 +293,9 @@ contains
         integer, intent(in) :: unit, number
         type(model_t), intent(in) :: model
         type(stage_result_t), intent(in) :: stage
-        integer :: node, e
+        integer :: node, e, k, pos
         real(dp) :: imbalance
+        character(len=:), allocatable :: buf
         write (unit, '(/,a,/,a,i4,2a,/,a)') rule, ' STAGE', number, '   ', stage%name, rule
         if (allocated(stage%warning)) write (unit, '(/,a,i0,a,/,3x,a)') ' WARNING: ', &
             stage%unbalanced, ' increment(s) accepted out of balance above ERRTOL; the first:', &
@@ -301,20 +304,39 @@ contains
             ' since placement)', &
             '   NODE          X (m)          Y (m)         UX (m)         UY (m)'// &
             '   UX TOTAL (m)   UY TOTAL (m)'
-        do node = 1, model%mesh%nnode
-            write (unit, '(i7,2f15.4,4es15.6)') node, model%mesh%x(:, node), &
-                stage%displacement(:, node), stage%displacement_total(:, node)
+        ! The long tables: the characters of the formats in the comments, made by
+        ! cfrd_fast_format into blocks of lines written at once (docs/performance.md (r)).
+        allocate (character(len=block_chars) :: buf)
+        pos = 1
+        do node = 1, model%mesh%nnode                   ! (i7,2f15.4,4es15.6)
+            call put_int(buf, pos, node, 7)
+            call put_fixed(buf, pos, model%mesh%x(1, node), 15, 4)
+            call put_fixed(buf, pos, model%mesh%x(2, node), 15, 4)
+            call put_sci(buf, pos, stage%displacement(1, node), 15, 6)
+            call put_sci(buf, pos, stage%displacement(2, node), 15, 6)
+            call put_sci(buf, pos, stage%displacement_total(1, node), 15, 6)
+            call put_sci(buf, pos, stage%displacement_total(2, node), 15, 6)
+            call next_line(unit, buf, pos)
         end do
+        call write_lines(unit, buf, pos)
         write (unit, '(/,a,/,a,/,a)') ' ELEMENT STRESSES AT CENTROIDS (kPa, tension positive;'// &
             ' ANGLE of SIGMA1 from x, degrees)', &
             '   ELEM MAT          SXX          SYY          SZZ          SXY       SIGMA1'// &
             '       SIGMA3   ANGLE'
-        do e = 1, model%mesh%nelem
+        do e = 1, model%mesh%nelem                      ! (i7,i4,6es13.4,f8.2)
             ! Joints carry tractions, not stresses: they are in the INTERFACE table.
             if (is_joint_kind(model%mesh%kind(e))) cycle
-            write (unit, '(i7,i4,6es13.4,f8.2)') e, model%mesh%material(e), &
-                stage%stress_centroid(:, e), stage%principal(1:2, e), stage%principal(3, e)
+            call put_int(buf, pos, e, 7)
+            call put_int(buf, pos, model%mesh%material(e), 4)
+            do k = 1, size(stage%stress_centroid, 1)
+                call put_sci(buf, pos, stage%stress_centroid(k, e), 13, 4)
+            end do
+            call put_sci(buf, pos, stage%principal(1, e), 13, 4)
+            call put_sci(buf, pos, stage%principal(2, e), 13, 4)
+            call put_fixed(buf, pos, stage%principal(3, e), 8, 2)
+            call next_line(unit, buf, pos)
         end do
+        call write_lines(unit, buf, pos)
         call write_interface_tables(unit, model, stage)
         if (allocated(stage%extremes)) then
             write (unit, '(/,a,/,a)') ' EXTREME STRESSES PER BODY (at centroids; the slab''s '// &
@@ -324,10 +346,14 @@ contains
         end if
         write (unit, '(/,a,/,a)') ' REACTIONS (kN/m)', &
             '   NODE             RX             RY'
-        do node = 1, model%mesh%nnode
+        do node = 1, model%mesh%nnode                   ! (i7,2es15.6)
             if (.not. any(model%fixed(:, node))) cycle
-            write (unit, '(i7,2es15.6)') node, stage%reaction(:, node)
+            call put_int(buf, pos, node, 7)
+            call put_sci(buf, pos, stage%reaction(1, node), 15, 6)
+            call put_sci(buf, pos, stage%reaction(2, node), 15, 6)
+            call next_line(unit, buf, pos)
         end do
+        call write_lines(unit, buf, pos)
         imbalance = norm2(stage%applied_load + stage%reaction_sum)/ &
                     max(norm2(stage%applied_load), tiny(1.0_dp))
         write (unit, '(a,2es15.6)') '    SUM', stage%reaction_sum
