@@ -23,8 +23,16 @@ OPENMP_FLAGS = -fopenmp
 RELEASE_FLAGS = -O3 -march=native -funroll-loops $(OPENMP_FLAGS) $(HDF5_CFLAGS)
 DEBUG_FLAGS = -O0 -g -Wall -fcheck=all -ffpe-trap=invalid,zero,overflow -fbacktrace \
               $(OPENMP_FLAGS) $(HDF5_CFLAGS)
-# fpm takes the subcommand first: $(call fpm,SUBCOMMAND,PROFILE,FLAGS)
-fpm = FPM_LDFLAGS="$(HDF5_LDIRS) $(OPENMP_FLAGS)" fpm $(1) --profile $(2) --flag "$(3)"
+# fpm takes the subcommand first: $(call fpm,SUBCOMMAND,PROFILE,FLAGS[,LINK DIRS FIRST])
+fpm = FPM_LDFLAGS="$(4) $(HDF5_LDIRS) $(OPENMP_FLAGS)" fpm $(1) --profile $(2) --flag "$(3)"
+# The release program takes HDF5 from its static archives (libhdf5-dev's libhdf5.a and
+# libhdf5_fortran.a, linked under the names fpm.toml asks for, through this folder of
+# links searched first): Debian's shared libhdf5_serial brings libcurl and some 30 more
+# libraries (its read-only S3 driver, which cfrd never uses), and resolving their symbols
+# took half of the process start (docs/performance.md (r)). Without the archives the
+# folder stays empty and the shared libraries are linked as before.
+HDF5_LIBDIR = $(patsubst -L%,%,$(firstword $(HDF5_LDIRS)))
+STATIC_HDF5 = build/static-hdf5
 
 DECKS ?= $(wildcard inputs/*.dat)
 OUT ?= batch-results
@@ -39,8 +47,11 @@ deps:
 
 ## build: release build, program at bin/cfrd
 build: deps
-	@mkdir -p build
-	@$(call fpm,install,release,$(RELEASE_FLAGS)) --prefix "$(CURDIR)" --bindir bin \
+	@mkdir -p build $(STATIC_HDF5)
+	@if [ -f "$(HDF5_LIBDIR)/libhdf5.a" ] && [ -f "$(HDF5_LIBDIR)/libhdf5_fortran.a" ]; then \
+	  ln -sf "$(HDF5_LIBDIR)/libhdf5.a" $(STATIC_HDF5)/libhdf5_serial.a; \
+	  ln -sf "$(HDF5_LIBDIR)/libhdf5_fortran.a" $(STATIC_HDF5)/libhdf5_serial_fortran.a; fi
+	@$(call fpm,install,release,$(RELEASE_FLAGS),-L$(CURDIR)/$(STATIC_HDF5)) --prefix "$(CURDIR)" --bindir bin \
 	  >build/release.log 2>&1 || { cat build/release.log; exit 1; }
 
 ## build-debug: debug build with every runtime check, program at build/debug-bin/cfrd.

@@ -22,6 +22,7 @@ program cfrd_tests
     use test_contact_hertz, only: collect_contact_hertz
     use test_analysis_increment, only: collect_analysis_increment
     use test_analysis_pjoint, only: collect_analysis_pjoint
+    use test_io_fast_format, only: collect_io_fast_format
     implicit none
     character(len=64) :: only_suite, only_test
     type(unittest_t), allocatable :: tests(:)
@@ -109,6 +110,10 @@ program cfrd_tests
     if (wanted('analysis_pjoint')) then
         call collect_analysis_pjoint(tests)
         call run_suite('analysis_pjoint', tests, only_test, npass, nfail)
+    end if
+    if (wanted('io_fast_format')) then
+        call collect_io_fast_format(tests)
+        call run_suite('io_fast_format', tests, only_test, npass, nfail)
     end if
 
     write (*, '(a,i0,a,i0,a)') 'fortran: ', npass, ' passed, ', nfail, ' failed'

@@ -12,6 +12,7 @@ module test_contact_mortar
     use cfrd_results, only: results_t
     use cfrd_stage_driver, only: run_analysis
     use cfrd_test_models, only: new_model, elastic_material, edge_traction
+    use cfrd_contact_roles, only: assign_roles
     implicit none
     private
 
@@ -31,6 +32,9 @@ contains
                 new_unittest('incline_slides', test_incline_slide), &
                 new_unittest('incline_fine_slave_sticks', test_incline_fine_stick), &
                 new_unittest('incline_fine_slave_slides', test_incline_fine_slide), &
+                new_unittest('roles_rule', test_roles_rule), &
+                new_unittest('incline_roles_swapped_sticks', test_incline_swapped_stick), &
+                new_unittest('incline_roles_swapped_slides', test_incline_swapped_slide), &
                 new_unittest('lift_off_over_settlement', test_lift_off) &
                 ]
     end subroutine collect_contact_mortar
@@ -186,7 +190,7 @@ contains
     !> (3 on 4 elements), gravity tilted by theta instead of the slope (the same statics).
     !> Returns the resultants of the contact tractions on the slider: N = sum p w and
     !> T = sum q w, w the tributary lengths of its 4 bottom nodes (0.33, 0.67, 0.67, 0.33 m).
-    subroutine incline(theta, mu, push, normal, tangential, statuses, error, fine)
+    subroutine incline(theta, mu, push, normal, tangential, statuses, error, fine, swap, tilt)
         real(dp), intent(in) :: theta, mu, push
         real(dp), intent(out) :: normal, tangential
         integer, intent(out) :: statuses(:)
@@ -194,6 +198,11 @@ contains
         !> a slider of 12 elements on a base of 1 (12 slave faces per master face), else 3
         !> on 4
         logical, intent(in), optional :: fine
+        !> the roles as the deck reader sets them (ROLES AUTO): the fine slider becomes the
+        !> master, the base carries the multipliers, the results stay at the slider's nodes
+        logical, intent(in), optional :: swap
+        !> the base's top face's rotation: |u_y(right) - u_y(left)| / its length
+        real(dp), intent(out), optional :: tilt
         real(dp), parameter :: deg = 0.017453292519943295769_dp
         type(model_t) :: model
         type(results_t) :: results
@@ -210,6 +219,9 @@ contains
         call stacked_blocks(model, nb, 1, nt, 1, 2.0_dp, 0.5_dp, 1.0_dp, &
                             elastic_material(1.0e5_dp, 0.25_dp, 0.0_dp), &
                             elastic_material(1.0e5_dp, 0.25_dp, 20.0_dp), mu, scheme_mortar)
+        if (present(swap)) then
+            if (swap) call assign_roles(model, model%contact_pairs(1))
+        end if
         n0 = (nb + 1)*2
         model%fixed(:, 1:nb + 1) = .true.
         model%mesh%group_name = ['SLIDER    ']
@@ -231,6 +243,16 @@ contains
             tangential = sum(r%tau*trib)
             statuses = r%status
         end associate
+        if (present(swap)) then
+            ! the multipliers are the weightless base's: its supports carry the contact force
+            ! (the slider's nodes report them interpolated, beyond the base's end none)
+            if (swap) then
+                normal = sum(results%stages(1)%reaction(2, 1:nb + 1))
+                tangential = sum(results%stages(1)%reaction(1, 1:nb + 1))
+                if (present(tilt)) tilt = abs(results%stages(1)%displacement(2, 2*nb + 2) - &
+                                              results%stages(1)%displacement(2, nb + 2))/2.0_dp
+            end if
+        end if
     end subroutine incline
 
     !> tan 20 deg = 0.364 < mu = 0.5: the slider sticks as a whole (its least pressed end may
@@ -262,6 +284,76 @@ contains
         type(error_t), allocatable, intent(out) :: error
         call incline_slide(error, .true.)
     end subroutine test_incline_fine_slide
+
+    !> The rule of the roles (docs/theory.md section 14, "Roles") against the faces' lengths:
+    !> a MORTAR slave whose faces are 3 or more times shorter than the master's (2 / 12 m
+    !> against 2 / 1 and 2 / 4; 2 / 5 is 2.4 times) is swapped, not with ROLES ASIS or NTS.
+    subroutine test_roles_rule(error)
+        type(error_t), allocatable, intent(out) :: error
+        call expect(1, scheme_mortar, .false., .true.)
+        if (allocated(error)) return
+        call expect(4, scheme_mortar, .false., .true.)
+        if (allocated(error)) return
+        call expect(5, scheme_mortar, .false., .false.)
+        if (allocated(error)) return
+        call expect(1, scheme_mortar, .true., .false.)
+        if (allocated(error)) return
+        call expect(1, scheme_nts, .false., .false.)
+    contains
+        subroutine expect(nb, scheme, asis, swapped)
+            integer, intent(in) :: nb, scheme
+            logical, intent(in) :: asis, swapped
+            type(model_t) :: model
+            call stacked_blocks(model, nb, 1, 12, 1, 2.0_dp, 0.5_dp, 1.0_dp, &
+                                elastic_material(1.0e5_dp, 0.25_dp, 0.0_dp), &
+                                elastic_material(1.0e5_dp, 0.25_dp, 20.0_dp), 0.5_dp, scheme)
+            model%contact_pairs(1)%roles_asis = asis
+            call assign_roles(model, model%contact_pairs(1))
+            call check(error, (model%contact_pairs(1)%swapped .eqv. swapped) .and. &
+                       model%contact_pairs(1)%slave == merge(2, 1, swapped) .and. &
+                       model%contact_pairs(1)%master == merge(1, 2, swapped), &
+                       'roles of a 12-face slave on a master of '//achar(48 + nb)//' faces')
+        end subroutine expect
+    end subroutine test_roles_rule
+
+    !> The fine slider (12 faces on a base of 1) with the roles swapped: the base carries the
+    !> multipliers, the results at the slider's nodes; tan 20 deg < mu = 0.5: it sticks, no
+    !> node slips; statics N = W cos theta, T = -W sin theta (the contact force, from the
+    !> weightless base's support reactions); 1e-8.
+    subroutine test_incline_swapped_stick(error)
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), parameter :: deg = 0.017453292519943295769_dp, weight = 40.0_dp
+        real(dp) :: normal, tangential
+        integer :: statuses(13)
+        call incline(20.0_dp, 0.5_dp, 0.0_dp, normal, tangential, statuses, error, .true., &
+                     .true.)
+        if (allocated(error)) return
+        call check(error, normal, weight*cos(20.0_dp*deg), 'N = W cos theta', rel=1e-8_dp)
+        if (allocated(error)) return
+        call check(error, tangential, -weight*sin(20.0_dp*deg), 'T = -W sin theta', rel=1e-8_dp)
+        if (allocated(error)) return
+        call check(error, all(statuses == 1), 'the slider sticks: every node in stick')
+    end subroutine test_incline_swapped_stick
+
+    !> The same at tan 30 deg > mu = 0.3, held 5 cm downhill at one node: Coulomb,
+    !> T = -mu W cos theta, N = W cos theta (1e-8; from the base's reactions); every node
+    !> on the base slips (the slider's downhill end, 5 cm beyond it, is open).
+    subroutine test_incline_swapped_slide(error)
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), parameter :: deg = 0.017453292519943295769_dp, weight = 40.0_dp
+        real(dp) :: normal, tangential, tilt
+        integer :: statuses(13)
+        call incline(30.0_dp, 0.3_dp, 0.05_dp, normal, tangential, statuses, error, .true., &
+                     .true., tilt)
+        if (allocated(error)) return
+        call check(error, normal, weight*cos(30.0_dp*deg), 'N = W cos theta', rel=1e-8_dp)
+        if (allocated(error)) return
+        ! (along the base's deformed face, which the reactions' x and y are not: its tilt)
+        call check(error, tangential, -0.3_dp*weight*cos(30.0_dp*deg), 'T = -mu W cos theta', &
+                   rel=tilt)
+        if (allocated(error)) return
+        call check(error, all(statuses == 2), 'the slider slides: every node slips')
+    end subroutine test_incline_swapped_slide
 
     !> The stick case on the incline: the 3-element slider (some node sticks; its uphill end,
     !> least pressed, may slip locally: partial slip) or the `fine` one (no node slips).

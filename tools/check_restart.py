@@ -50,12 +50,14 @@ def run(cmd):
 
 def deck_for(name, folder):
     """Write the x1 deck `name` into `folder`; return its path. `fine-slab`: the hard case
-    incipient-slip (a slab much finer than the body: friction per master segment, whose
+    incipient-slip (a slab much finer than the body: the roles swapped, the cushion carries
+    the multipliers, and CAST's moves of the slab's nodes are in the restart state's u);
+    `fine-slab-asis`: incipient-slip-asis (ROLES ASIS: friction per master segment, whose
     groups the restart state carries)."""
     path = os.path.join(folder, name + ".dat")
-    if name == "fine-slab":
-        return shutil.copy(os.path.join(HERE, "..", "test", "hard_cases", "incipient-slip.dat"),
-                           path)
+    if name in ("fine-slab", "fine-slab-asis"):
+        source = "incipient-slip" + ("-asis" if name.endswith("asis") else "") + ".dat"
+        return shutil.copy(os.path.join(HERE, "..", "test", "hard_cases", source), path)
     interface = "bonded" if name == "creep" else name
     extra = ["--creep"] if name == "creep" else []
     subprocess.run([sys.executable, os.path.join(HERE, "tianshengqiao.py"), "--refine", "1",
@@ -275,7 +277,8 @@ def refusals(cfrd, deck, full, work):
 
 def main():
     ap = parser(__doc__, cfrd="build/debug-bin/cfrd", workdir="build/test-work/restart")
-    ap.add_argument("--decks", default="bonded,joint,thin,contact,creep,fine-slab")
+    ap.add_argument("--decks", default="bonded,joint,thin,contact,creep,fine-slab,"
+                    "fine-slab-asis")
     args = ap.parse_args()
     work = fresh(args.workdir)
     decks = fresh(os.path.join(work, "decks"))

@@ -11,7 +11,8 @@ Checks, each printing PASS or FAIL:
     --threads 1 (reference: that run; compare_stages of tools/check_stop.py);
   - threads-started: a run with --threads 3 has (at least) two more threads than a run with
     --threads 1 while it runs (/proc/PID/task; the program was built with OpenMP), both with
-    --linear-solver umfpack (CHOLMOD starts OpenMP threads of its own);
+    --linear-solver umfpack (CHOLMOD's own OpenMP loops, held to one thread since
+    docs/performance.md (r), are kept out of the count all the same);
   - --threads 0 and --threads x are usage errors (exit 2, the message names the option);
   - with --against BIN (by hand: another build, e.g. main's bin/cfrd before the change), the
     --threads 1 and --threads 2 runs against BIN's run, the same way, bit for bit.
@@ -37,9 +38,9 @@ def run(cfrd, folder, deck, threads=None, env=None):
 
 def most_threads(cfrd, folder, deck, threads):
     """The most threads (/proc/PID/task) seen while cfrd runs deck with --threads N."""
-    # UMFPACK: CHOLMOD runs its supernodal loops on a team of OpenMP threads of its own (up to
-    # CHOLMOD_OMP_NUM_THREADS, fixed when SuiteSparse was built: 4 threads seen with
-    # --threads 1), which would hide the count of cfrd's own loops
+    # UMFPACK: CHOLMOD has supernodal loops on OpenMP teams of its own (CHOLMOD_OMP_NUM_THREADS,
+    # fixed when SuiteSparse was built: 4 threads were seen with --threads 1 before cfrd held
+    # them to one, docs/performance.md (r)); kept out so that only cfrd's own loops count
     proc = subprocess.Popen([cfrd, "--quiet", "--threads", str(threads), "--linear-solver",
                              "umfpack", "--out", folder, deck],
                             env=dict(os.environ, OMP_WAIT_POLICY="passive"))

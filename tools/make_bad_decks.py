@@ -283,6 +283,10 @@ cases += [
  ("errctl-depth", sub(counts, counts + "ERRCTL         0.005   21\n"), "{f}:5:21-25: field DEPTH of CONTROL ERRCTL: expected a number of halvings with 0 <= DEPTH <= 20, found '21'"),
  ("errctl-twice", sub(counts, counts + "ERRCTL\nERRCTL         0.01\n"), "{f}:6: CONTROL takes one ERRCTL card (the first is at line 5)"),
 ]
+# The contact pair's roles (issue 20): PAIR field ROLES.
+cases += [
+ ("contact-roles", csub(CPAIR, CPAIR.ljust(75) + "BOTH"), "{f}:17:76-80: field ROLES of CONTACT PAIR TOP: expected AUTO (a much finer slave becomes the master) or ASIS, found 'BOTH'"),
+]
 for old in os.listdir(P):
     os.remove(P + old)
 for i, (name, deck, expect) in enumerate(cases, 1):

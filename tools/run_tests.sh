@@ -204,6 +204,11 @@ tool_checks "matrix market" python3 tools/check_matrix_market.py --cfrd "$cfrd" 
 # The OpenMP element loops (issue 21): --threads 2 and OMP_NUM_THREADS=2 give the same bits as
 # --threads 1 on the x1 bonded and contact decks; the threads are started; usage errors.
 tool_checks "threads" python3 tools/check_threads.py --cfrd "$cfrd" --workdir "$work/threads"
+# Two runs of one program write the same bytes (listings, legacy listing, CSVs, XDMF) and the
+# same HDF5 values, run ids and times aside: tools/same_outputs.py, the comparison that holds
+# a speed-only change to main's outputs (docs/performance.md (r)), run on itself.
+tool_checks "same outputs" python3 tools/same_outputs.py --before "$cfrd" --after "$cfrd" \
+    --workdir "$work/same-outputs" --flags=--legacy-listing inputs/example.dat inputs/column.dat
 # Issue 21: CHOLMOD for the SPD systems agrees with UMFPACK, the contact systems stay with
 # UMFPACK, --linear-solver's usage errors (tools/check_linear_solver.py).
 tool_checks "linear solver" python3 tools/check_linear_solver.py --cfrd "$cfrd" \

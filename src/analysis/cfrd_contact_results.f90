@@ -6,6 +6,7 @@ module cfrd_contact_results
     use cfrd_model, only: model_t
     use cfrd_results, only: contact_result_t, opening_t
     use cfrd_contact, only: contact_t, contact_open
+    use cfrd_contact_view, only: reported_contact
     implicit none
     private
 
@@ -23,19 +24,22 @@ contains
         logical, intent(in) :: active(:)          !! (nelem) elements placed
         type(contact_result_t), intent(out) :: result
         type(opening_t), allocatable, intent(inout) :: openings(:)
-        result%node = contact%node
-        result%pair = contact%pair
-        result%group = contact%group
-        result%status = contact%status
-        result%placed = contact%placed
-        result%x = model%mesh%x(1, contact%node)
-        result%y = model%mesh%x(2, contact%node)
-        result%s = contact%s
-        result%gap = merge(contact%gap, 0.0_dp, contact%placed)
-        result%slip = contact%slip
-        result%sigma_n = -contact%p
-        result%tau = contact%q
-        call contact_openings(model, contact, active, result, openings)
+        type(contact_t) :: view
+        ! (at the card's slave nodes: the slab's where the roles were swapped)
+        view = reported_contact(model, contact, active, open_gap_limit)
+        result%node = view%node
+        result%pair = view%pair
+        result%group = view%group
+        result%status = view%status
+        result%placed = view%placed
+        result%x = model%mesh%x(1, view%node)
+        result%y = model%mesh%x(2, view%node)
+        result%s = view%s
+        result%gap = merge(view%gap, 0.0_dp, view%placed)
+        result%slip = view%slip
+        result%sigma_n = -view%p
+        result%tau = view%q
+        call contact_openings(model, view, active, result, openings)
     end subroutine record_contact
 
     !> The opening of each slab phase of each pair: the placed slave segments of one element

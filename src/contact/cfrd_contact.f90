@@ -19,10 +19,11 @@ module cfrd_contact
                            dual_shape
     use cfrd_rpim, only: rpim_shape, rpim_support
     use cfrd_bucket_search, only: bucket_grid_t, build_grid, query_grid
+    use cfrd_contact_cast, only: cast_master_offsets
     implicit none
     private
 
-    public :: contact_t, new_contact, contact_geometry
+    public :: contact_t, new_contact, contact_geometry, arc_lengths
     public :: contact_open, contact_stick, contact_slip, contact_iteration_limit
 
     integer, parameter :: contact_open = 0    !! not in contact (or not placed / unsupported)
@@ -282,6 +283,9 @@ contains
                 where (contact%birth(contact%mseg(:, k)) == 0) &
                     contact%birth(contact%mseg(:, k)) = contact%searches
             end do
+            call cast_master_offsets(model, contact%node, contact%pair, contact%seg, seg_on, &
+                                     contact%mseg, contact%mseg_pair, mseg_on, &
+                                     contact%birth == contact%searches, x, contact%u)
             contact%placed = .false.
             contact%normal = 0.0_dp
             contact%wref = 0.0_dp

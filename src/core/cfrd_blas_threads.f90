@@ -20,6 +20,9 @@ module cfrd_blas_threads
             import :: c_int
             integer(c_int), value :: n
         end subroutine set_threads_t
+        integer(c_int) function shutdown_t() bind(C)
+            import :: c_int
+        end function shutdown_t
     end interface
 
     interface
@@ -58,5 +61,25 @@ contains
         call c_f_procpointer(address, set_threads)
         call set_threads(int(chosen, c_int))
         threads = chosen
+        if (chosen == 1) call stop_idle_workers()
     end function set_blas_threads
+
+    !> End OpenBLAS's worker threads once the BLAS runs on the calling thread alone.
+    !> OpenBLAS (pthreads build) starts them when it is loaded, before any of cfrd runs,
+    !> and openblas_set_num_threads(1) leaves them waiting: each spins on sched_yield for
+    !> its timeout (2^28 cycles, about 0.1 s) before it sleeps, a whole core of CPU time
+    !> through a short run (a sixth of the samples of a 10^3-quad run; docs/performance.md
+    !> (r)). blas_thread_shutdown_ is the routine OpenBLAS calls itself at exit and before
+    !> a fork: it wakes and joins the workers. One thread computes as before (the same
+    !> single-threaded kernels), so nothing else changes; a larger count later would start
+    !> the workers again (OpenBLAS's lazy initialisation).
+    subroutine stop_idle_workers()
+        type(c_funptr) :: address
+        procedure(shutdown_t), pointer :: shutdown
+        integer(c_int) :: status
+        address = dlsym(c_null_ptr, 'blas_thread_shutdown_'//c_null_char)
+        if (.not. c_associated(address)) return
+        call c_f_procpointer(address, shutdown)
+        status = shutdown()
+    end subroutine stop_idle_workers
 end module cfrd_blas_threads

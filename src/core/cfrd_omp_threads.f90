@@ -12,11 +12,12 @@
 !> is loaded, before any Fortran runs: on a shared machine a 2-thread run spun through 6.5
 !> s of CPU time (docs/performance.md (m)); README says to set it.
 module cfrd_omp_threads
-    !$ use omp_lib, only: omp_set_num_threads, omp_get_max_threads
+    !$ use omp_lib, only: omp_set_num_threads, omp_get_max_threads, &
+    !$                    omp_get_max_active_levels, omp_set_max_active_levels
     implicit none
     private
 
-    public :: set_omp_threads, loop_threads
+    public :: set_omp_threads, loop_threads, begin_serial_library, end_serial_library
 
 contains
 
@@ -44,4 +45,26 @@ contains
         threads = 1
         !$ threads = omp_get_max_threads()
     end function loop_threads
+
+    !> Make the parallel regions of the library called next run on the calling thread
+    !> alone, until end_serial_library(saved): no active level is allowed (OpenMP's
+    !> max-active-levels = 0). CHOLMOD's supernodal factorisation (SuiteSparse 5, Debian's
+    !> build with OpenMP) opens several small parallel loops per supernode with a fixed
+    !> team of CHOLMOD_OMP_NUM_THREADS = 4, whatever omp_set_num_threads says: on 2 cores
+    !> its 3 extra threads were created at the first factorisation and spun or slept on
+    !> futexes between the loops (21,000 futex calls in a 10^4-quad run). Those loops
+    !> zero, map and scatter, each entry written by one iteration, with no reduction, so
+    !> the factor is the same bits on one thread (docs/performance.md (r)). Returns the
+    !> setting to restore.
+    integer function begin_serial_library() result(saved)
+        saved = 1
+        !$ saved = omp_get_max_active_levels()
+        !$ call omp_set_max_active_levels(0)
+    end function begin_serial_library
+
+    !> Restore the setting that begin_serial_library returned.
+    subroutine end_serial_library(saved)
+        integer, intent(in) :: saved
+        !$ call omp_set_max_active_levels(saved)
+    end subroutine end_serial_library
 end module cfrd_omp_threads

@@ -277,7 +277,7 @@ module cfrd_card_schema
         field_t('FACE', 26, 5, int_field, lo=1.0_dp, hi=4.0_dp, expected=a_face), &
         field_t('NGEN', 31, 5, int_field, lo=0.0_dp, expected='an integer >= 0'), &
         field_t('INC', 36, 5, int_field, default=1.0_dp)]
-    type(field_t), parameter :: pair_fields(8) = [ &
+    type(field_t), parameter :: pair_fields(9) = [ &
         field_t('KEYWORD', 1, 10, text_field), &
         field_t('SLAVE', 11, 10, text_field), &
         field_t('MASTER', 21, 10, text_field), &
@@ -289,7 +289,9 @@ module cfrd_card_schema
                 expected='LINEAR (piecewise-linear master surface) or RPIM (radial point '// &
                 'interpolation)'), &
         field_t('CAST', 71, 5, int_field, lo=0.0_dp, hi=1.0_dp, expected='0 or 1 (1: '// &
-                'cast in place, the gap at placement counts as closed)')]
+                'cast in place, the gap at placement counts as closed)'), &
+        field_t('ROLES', 76, 5, text_field, default=1.0_dp, words='AUTO ASIS', &
+                expected='AUTO (a much finer slave becomes the master) or ASIS')]
 
     type(field_t), parameter :: reservoir_fields(3) = [ &
         field_t('ELEM', 1, 5, int_field), &

@@ -1,13 +1,15 @@
 !> CONTACT: SURFACE cards (element faces, generated with NGEN and INC; cards of one name
 !> add up) and PAIR cards (slave, master, friction, closure tolerance, scheme, search, cast
-!> in place); docs/cards.md, CONTACT. The fields are read and checked against the card
-!> schema; here remain the checks against the mesh and between the surfaces.
+!> in place, roles); docs/cards.md, CONTACT. The fields are read and checked against the card
+!> schema; here remain the checks against the mesh and between the surfaces, and the roles
+!> (cfrd_contact_roles: a much finer slave made the master).
 module cfrd_deck_contact
     use cfrd_error, only: error_t, fatal_error, input_error
     use cfrd_model, only: model_t, contact_surface_t, contact_pair_t, scheme_mortar, &
                           scheme_nts, search_linear, search_rpim, is_joint_kind
     use cfrd_cards, only: field_error, card_error, upper, to_text
     use cfrd_card_schema, only: surface_fields, pair_fields
+    use cfrd_contact_roles, only: assign_roles
     use cfrd_card_reader, only: card_values_t, read_card, raw_text
     use cfrd_deck_groups, only: group_cards_t
     implicit none
@@ -137,9 +139,10 @@ contains
                                      'scheme)', v%text(7))
                     return
                 end if
-                call read_card(file, card, pair_fields, ctx, v, error, only=[8])
+                call read_card(file, card, pair_fields, ctx, v, error, only=[8, 9])
                 if (allocated(error)) return
                 pair%cast = v%int(8) == 1
+                pair%roles_asis = v%int(9) == 2
                 ! Two independent bodies: no node on both surfaces.
                 allocate (owner(model%mesh%nnode), source=0)
                 do j = 1, size(model%surfaces(pair%slave)%element)
@@ -157,6 +160,7 @@ contains
                     end if
                 end do
                 deallocate (owner)
+                call assign_roles(model, pair)
                 model%contact_pairs = [model%contact_pairs, pair]
             end associate
         end do

@@ -11,6 +11,8 @@ module cfrd_legacy_listing
     use cfrd_model, only: model_t, is_joint_kind
     use cfrd_results, only: stage_result_t
     use cfrd_columns, only: date_of, level_of
+    use cfrd_fast_format, only: put_int, put_fixed, put_sci, next_line, write_lines, &
+                                block_chars
     implicit none
     private
 
@@ -52,10 +54,11 @@ contains
         type(model_t), intent(in) :: model
         type(stage_result_t), intent(in) :: st
         type(error_t), allocatable, intent(out) :: error
-        integer :: stat, node, e
+        integer :: stat, node, e, k, pos
         real(dp) :: angle
         logical, allocatable :: placed(:)
         character(len=256) :: msg
+        character(len=:), allocatable :: buf
         associate (mesh => model%mesh)
             allocate (placed(mesh%nnode))
             write (unit, '(/,a,i5,2x,a,/,a,a10,a,a10,a,i7)', iostat=stat, iomsg=msg) '1STAGE', &
@@ -69,11 +72,20 @@ contains
             if (stat == 0) write (unit, '(/,a,/,a)', iostat=stat, iomsg=msg) &
                 '  NODAL POINT DISPLACEMENTS', &
                 '    NODE        X-ORD        Y-ORD       X-DISP       Y-DISP'
-            do node = 1, mesh%nnode
+            ! The tables: the characters of the formats in the comments, made by
+            ! cfrd_fast_format into blocks of lines written at once (docs/performance.md (r)).
+            allocate (character(len=block_chars) :: buf)
+            pos = 1
+            do node = 1, mesh%nnode                     ! (i8,2f13.3,2es13.5)
                 if (.not. placed(node) .or. stat /= 0) cycle
-                write (unit, '(i8,2f13.3,2es13.5)', iostat=stat, iomsg=msg) node, &
-                    mesh%x(:, node), printable(st%displacement_total(:, node))
+                call put_int(buf, pos, node, 8)
+                call put_fixed(buf, pos, mesh%x(1, node), 13, 3)
+                call put_fixed(buf, pos, mesh%x(2, node), 13, 3)
+                call put_sci(buf, pos, printable(st%displacement_total(1, node)), 13, 5)
+                call put_sci(buf, pos, printable(st%displacement_total(2, node)), 13, 5)
+                call next_line(unit, buf, pos, stat, msg)
             end do
+            call write_lines(unit, buf, pos, stat, msg)
             if (stat == 0) write (unit, '(/,a,/,a)', iostat=stat, iomsg=msg) &
                 '  ELEMENT STRESSES AT CENTROIDS', &
                 '    ELEM  MAT      SIGMA-X      SIGMA-Y      SIGMA-Z       TAU-XY'// &
@@ -83,10 +95,18 @@ contains
                 if (.not. st%active(e) .or. is_joint_kind(mesh%kind(e)) .or. stat /= 0) cycle
                 ! An angle that rounds to zero is printed as 0.00, never -0.00.
                 angle = merge(0.0_dp, st%principal(3, e), abs(st%principal(3, e)) < 0.005_dp)
-                write (unit, '(i8,i5,6es13.5,f8.2,f9.4)', iostat=stat, iomsg=msg) e, &
-                    mesh%material(e), printable(st%stress_centroid(:, e)), &
-                    printable(st%principal(1:2, e)), angle, st%stress_level(e)
+                call put_int(buf, pos, e, 8)                ! (i8,i5,6es13.5,f8.2,f9.4)
+                call put_int(buf, pos, mesh%material(e), 5)
+                do k = 1, size(st%stress_centroid, 1)
+                    call put_sci(buf, pos, printable(st%stress_centroid(k, e)), 13, 5)
+                end do
+                call put_sci(buf, pos, printable(st%principal(1, e)), 13, 5)
+                call put_sci(buf, pos, printable(st%principal(2, e)), 13, 5)
+                call put_fixed(buf, pos, angle, 8, 2)
+                call put_fixed(buf, pos, st%stress_level(e), 9, 4)
+                call next_line(unit, buf, pos, stat, msg)
             end do
+            call write_lines(unit, buf, pos, stat, msg)
         end associate
         if (stat /= 0) call fatal_error(error, 'cannot write the legacy listing '//path// &
                                         ': '//trim(msg), io_error)

@@ -11,6 +11,7 @@ module cfrd_listing
     use cfrd_model, only: model_t, law_name, dry_level, law_goodman, law_pjoint, &
                           is_joint_kind, scheme_name, search_name, scheme_mortar
     use cfrd_contact, only: friction_group_ratio
+    use cfrd_contact_roles, only: mean_face
     use cfrd_results, only: stage_result_t
     use cfrd_stage_summary, only: stage_summary_t
     use cfrd_columns, only: csv_real, date_of, level_of, run_id_comment
@@ -20,6 +21,8 @@ module cfrd_listing
     use cfrd_effects, only: effects_text
     use cfrd_pjoint_io, only: write_pjoint_table
     use cfrd_run_identity, only: run_identity_t
+    use cfrd_fast_format, only: put_int, put_fixed, put_sci, next_line, write_lines, &
+                                block_chars
     implicit none
     private
 
@@ -151,11 +154,22 @@ contains
                             trim(merge('yes', 'no ', pair%cast))
                         ! a slave much finer than its master: friction per master segment
                         if (pair%friction > 0.0_dp .and. pair%scheme == scheme_mortar .and. &
-                            mean_face(pair%master) >= friction_group_ratio* &
-                            mean_face(pair%slave)) write (unit, '(7x,a,f6.1,a)') &
-                            'the slave''s faces are', mean_face(pair%master)/ &
-                            mean_face(pair%slave), ' times shorter than the master''s: '// &
+                            mean_face(model, pair%master) >= friction_group_ratio* &
+                            mean_face(model, pair%slave)) write (unit, '(7x,a,f6.1,a)') &
+                            'the slave''s faces are', mean_face(model, pair%master)/ &
+                            mean_face(model, pair%slave), ' times shorter than the master''s: '// &
                             'friction per master segment (docs/theory.md section 14)'
+                        if (pair%swapped) write (unit, '(7x,5a,f6.3,3a,f6.3,a)') 'roles '// &
+                            'swapped: the card''s slave ', trim(model%surfaces(pair%master)%name), &
+                            ' is much finer than its master ', &
+                            trim(model%surfaces(pair%slave)%name), ' (mean face ', &
+                            mean_face(model, pair%master), ' m against ', &
+                            trim(model%surfaces(pair%slave)%name), '''s ', &
+                            mean_face(model, pair%slave), ' m): '
+                        if (pair%swapped) write (unit, '(9x,3a)') &
+                            trim(model%surfaces(pair%slave)%name), ' carries the multipliers, '// &
+                            'results at the nodes of ', trim(model%surfaces(pair%master)%name)// &
+                            ' (ROLES ASIS keeps the card''s roles; docs/theory.md section 14)'
                     end associate
                 end do
             end if
@@ -168,22 +182,6 @@ contains
                 end do
             end if
         end if
-    contains
-        !> The mean length of a surface's faces at the coordinates of the deck.
-        real(dp) function mean_face(k)
-            integer, intent(in) :: k
-            integer :: j, e, f
-            mean_face = 0.0_dp
-            associate (surface => model%surfaces(k), mesh => model%mesh)
-                do j = 1, size(surface%element)
-                    e = surface%element(j)
-                    f = surface%face(j)
-                    mean_face = mean_face + norm2(mesh%x(:, mesh%conn(mod(f, 4) + 1, e)) - &
-                                                  mesh%x(:, mesh%conn(f, e)))
-                end do
-                mean_face = mean_face/max(size(surface%element), 1)
-            end associate
-        end function mean_face
     end subroutine write_model_summary
 
     !> One line per stage: what it did, how the solution went, the extreme displacements.
@@ -295,8 +293,9 @@ contains
         integer, intent(in) :: unit, number
         type(model_t), intent(in) :: model
         type(stage_result_t), intent(in) :: stage
-        integer :: node, e
+        integer :: node, e, k, pos
         real(dp) :: imbalance
+        character(len=:), allocatable :: buf
         write (unit, '(/,a,/,a,i4,2a,/,a)') rule, ' STAGE', number, '   ', stage%name, rule
         if (allocated(stage%warning)) write (unit, '(/,a,i0,a,/,3x,a)') ' WARNING: ', &
             stage%unbalanced, ' increment(s) accepted out of balance above ERRTOL; the first:', &
@@ -305,20 +304,39 @@ contains
             ' since placement)', &
             '   NODE          X (m)          Y (m)         UX (m)         UY (m)'// &
             '   UX TOTAL (m)   UY TOTAL (m)'
-        do node = 1, model%mesh%nnode
-            write (unit, '(i7,2f15.4,4es15.6)') node, model%mesh%x(:, node), &
-                stage%displacement(:, node), stage%displacement_total(:, node)
+        ! The long tables: the characters of the formats in the comments, made by
+        ! cfrd_fast_format into blocks of lines written at once (docs/performance.md (r)).
+        allocate (character(len=block_chars) :: buf)
+        pos = 1
+        do node = 1, model%mesh%nnode                   ! (i7,2f15.4,4es15.6)
+            call put_int(buf, pos, node, 7)
+            call put_fixed(buf, pos, model%mesh%x(1, node), 15, 4)
+            call put_fixed(buf, pos, model%mesh%x(2, node), 15, 4)
+            call put_sci(buf, pos, stage%displacement(1, node), 15, 6)
+            call put_sci(buf, pos, stage%displacement(2, node), 15, 6)
+            call put_sci(buf, pos, stage%displacement_total(1, node), 15, 6)
+            call put_sci(buf, pos, stage%displacement_total(2, node), 15, 6)
+            call next_line(unit, buf, pos)
         end do
+        call write_lines(unit, buf, pos)
         write (unit, '(/,a,/,a,/,a)') ' ELEMENT STRESSES AT CENTROIDS (kPa, tension positive;'// &
             ' ANGLE of SIGMA1 from x, degrees)', &
             '   ELEM MAT          SXX          SYY          SZZ          SXY       SIGMA1'// &
             '       SIGMA3   ANGLE'
-        do e = 1, model%mesh%nelem
+        do e = 1, model%mesh%nelem                      ! (i7,i4,6es13.4,f8.2)
             ! Joints carry tractions, not stresses: they are in the INTERFACE table.
             if (is_joint_kind(model%mesh%kind(e))) cycle
-            write (unit, '(i7,i4,6es13.4,f8.2)') e, model%mesh%material(e), &
-                stage%stress_centroid(:, e), stage%principal(1:2, e), stage%principal(3, e)
+            call put_int(buf, pos, e, 7)
+            call put_int(buf, pos, model%mesh%material(e), 4)
+            do k = 1, size(stage%stress_centroid, 1)
+                call put_sci(buf, pos, stage%stress_centroid(k, e), 13, 4)
+            end do
+            call put_sci(buf, pos, stage%principal(1, e), 13, 4)
+            call put_sci(buf, pos, stage%principal(2, e), 13, 4)
+            call put_fixed(buf, pos, stage%principal(3, e), 8, 2)
+            call next_line(unit, buf, pos)
         end do
+        call write_lines(unit, buf, pos)
         call write_interface_tables(unit, model, stage)
         if (allocated(stage%extremes)) then
             write (unit, '(/,a,/,a)') ' EXTREME STRESSES PER BODY (at centroids; the slab''s '// &
@@ -328,10 +346,14 @@ contains
         end if
         write (unit, '(/,a,/,a)') ' REACTIONS (kN/m)', &
             '   NODE             RX             RY'
-        do node = 1, model%mesh%nnode
+        do node = 1, model%mesh%nnode                   ! (i7,2es15.6)
             if (.not. any(model%fixed(:, node))) cycle
-            write (unit, '(i7,2es15.6)') node, stage%reaction(:, node)
+            call put_int(buf, pos, node, 7)
+            call put_sci(buf, pos, stage%reaction(1, node), 15, 6)
+            call put_sci(buf, pos, stage%reaction(2, node), 15, 6)
+            call next_line(unit, buf, pos)
         end do
+        call write_lines(unit, buf, pos)
         imbalance = norm2(stage%applied_load + stage%reaction_sum)/ &
                     max(norm2(stage%applied_load), tiny(1.0_dp))
         write (unit, '(a,2es15.6)') '    SUM', stage%reaction_sum

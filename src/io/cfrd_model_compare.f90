@@ -193,7 +193,7 @@ contains
                           '): friction or tolerance', [a%friction, a%tolerance], &
                           [b%friction, b%tolerance])
                 call same_flags(f, 'CONTACT pair '//to_text(i)//' (line '//to_text(b%line)// &
-                           '): CAST', [a%cast], [b%cast])
+                           '): CAST or the roles', [a%cast, a%swapped], [b%cast, b%swapped])
             end associate
         end do
     end subroutine surfaces

@@ -149,6 +149,11 @@ module cfrd_model
         !> Cast in place: the gap a slave node has when it is placed counts as closed
         !> (a slab cast on the cushion starts in contact wherever it is placed).
         logical :: cast = .false.
+        !> ROLES ASIS: the roles as the card gives them, however fine the slave
+        logical :: roles_asis = .false.
+        !> The card's SLAVE is much finer than its MASTER and the roles were swapped
+        !> (cfrd_contact_roles): `slave` and `master` above are the roles as solved
+        logical :: swapped = .false.
         integer :: line = 0                  !! deck line, for messages
     end type contact_pair_t
 

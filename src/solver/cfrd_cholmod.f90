@@ -13,6 +13,7 @@ module cfrd_cholmod
     use cfrd_sparse, only: sparse_pattern_t
     use cfrd_umfpack, only: rcond_min
     use cfrd_strings, only: to_text
+    use cfrd_omp_threads, only: begin_serial_library, end_serial_library
     implicit none
     private
 
@@ -246,6 +247,7 @@ contains
         logical, intent(out) :: positive
         type(error_t), allocatable, intent(out) :: error
         integer(c_int) :: status
+        integer :: levels
         positive = .false.
         self%factorised = .false.
         if (.not. self%analysed) call self%analyse(pattern, error)
@@ -257,7 +259,9 @@ contains
             return
         end if
         self%up_values = values(self%up_from)
+        levels = begin_serial_library()     ! CHOLMOD's own OpenMP loops on this thread
         status = cfrd_cholmod_factorise(self%handle, self%up_values)
+        call end_serial_library(levels)
         if (status == cholmod_not_posdef) return
         if (status /= cholmod_ok) then
             call fatal_error(error, 'CHOLMOD: numeric factorisation failed (status '// &

@@ -123,6 +123,7 @@ class Run:
             return
         with h5py.File(path, "r") as f:
             f.visititems(self._finite)
+            xy, nelem = f["mesh/coordinates"][...], f["mesh/connectivity"].shape[0]
             for g in results.stages(f):
                 stage = {k: g[k][...] for k in ("displacement", "reaction", "stress_level",
                                                 "principal", "stress_gauss")}
@@ -132,6 +133,8 @@ class Run:
                              reservoir_empty=bool(g.attrs.get("reservoir_empty", 1)),
                              reaction_sum=g.attrs["reaction_sum"],
                              contact_iterations=int(g["solver"].attrs["contact_iterations"]))
+                if "state" in g:
+                    stage.update(state_multipliers(g["state"], xy, nelem))
                 self.stages.append(stage)
 
     def _finite(self, name, obj):
@@ -141,6 +144,34 @@ class Run:
         self.nonfinite += [f"{name}@{key}" for key, value in obj.attrs.items()
                            if np.asarray(value).dtype.kind == "f" and
                            not np.all(np.isfinite(value))]
+
+
+def state_multipliers(state, xy, nelem):
+    """The contact multipliers at their own (slave) nodes, from a stage's restart state
+    (src/io/cfrd_h5_state.f90, state_reals): m_node (mesh node, the positive entry D_jj of
+    its coupling row; 0 when uncoupled), m_x, m_y (as meshed), m_p, m_q (kPa), m_status,
+    m_supported. Where the
+    roles were swapped (docs/theory.md section 14) these are the cushion's nodes, while the
+    contact datasets report the slab's."""
+    ints, reals, nnode = state["ints"][...], state["reals"][...], len(xy)
+    n = ints[:8]
+    nc, ncpl = int(n[2]), int(n[3])
+    if nc < 0:
+        return {}
+    i = 8 + (nelem if n[7] == 1 else 0)
+    supported, status = ints[i + nc:i + 2 * nc], ints[i + 2 * nc:i + 3 * nc]
+    i += 4 * nc + nnode                       # placed, supported, status, slip_sign, birth
+    ptr, cnode = ints[i:i + nc + 1], ints[i + nc + 1:i + nc + 1 + ncpl]
+    r = 2 * nnode * (2 if n[6] == 1 else 1)   # f_ext, u_before_reset
+    p, q = reals[r:r + nc], reals[r + nc:r + 2 * nc]
+    a = reals[r + 13 * nc:r + 13 * nc + ncpl]  # after p .. g_curve (9), normal, tangent (4)
+    node = np.zeros(nc, int)
+    for c in range(nc):
+        if ptr[c + 1] > ptr[c]:
+            row = slice(ptr[c] - 1, ptr[c + 1] - 1)
+            node[c] = cnode[row][np.argmax(a[row])]
+    return dict(m_node=node, m_x=xy[node - 1, 0], m_y=xy[node - 1, 1], m_p=p, m_q=q,
+                m_status=status, m_supported=supported)
 
 
 def rel(a, b):
