@@ -41,9 +41,11 @@ contains
     !> by the caller (f_target - f_int, with the forces of the prescribed increment du_p in
     !> it). With contact the multipliers are solved with du, and the active set is iterated
     !> until it holds (primal-dual active set, docs/theory.md section 14); `du_base` is the
-    !> increment already taken (Newton).
+    !> increment already taken (Newton). `unsettled`: the error is the active set's failure to
+    !> converge (a cycle, the iteration limit, held nodes breaking stick), which a smaller
+    !> step may cure (the stage driver cuts the increment back).
     subroutine solve_system(model, rhs, du_p, system, du, result, context, error, contact, &
-                            du_base)
+                            du_base, unsettled)
         type(model_t), intent(in) :: model
         real(dp), intent(in) :: rhs(:, :), du_p(:, :)
         type(system_t), intent(inout) :: system
@@ -53,12 +55,14 @@ contains
         type(error_t), allocatable, intent(out) :: error
         type(contact_t), intent(inout), optional :: contact
         real(dp), intent(in), optional :: du_base(:, :)
+        logical, intent(out), optional :: unsettled
         real(dp), allocatable :: b(:), x(:), known(:, :)
         integer, allocatable :: seen(:, :), before(:), flips(:)
         logical, allocatable :: held(:), changing(:)
         real(dp) :: t0
         integer :: node, k, c, neq, iteration, earlier, cycling, since, passes
         logical :: changed, released
+        if (present(unsettled)) unsettled = .false.
         neq = system%dofmap%neq
         allocate (b(system%pattern%n), x(system%pattern%n))
         do node = 1, model%mesh%nnode
@@ -126,8 +130,10 @@ contains
                 ! Held nodes: accepted when their tractions break stick by little; else
                 ! released once, the iteration going on as without holds.
                 call check_held(error)
+                if (allocated(error) .and. present(unsettled)) unsettled = .true.
                 if (.not. allocated(error) .or. released .or. &
                     iteration == contact_iteration_limit) return
+                if (present(unsettled)) unsettled = .false.
                 deallocate (error)
                 held = .false.
                 released = .true.
@@ -166,6 +172,7 @@ contains
                                          to_text(earlier)//') with '// &
                                          to_text(count(changing))//' slave nodes held; '// &
                                          worst_text(changing), numerical_error)
+                        if (present(unsettled)) unsettled = .true.
                         return
                     end if
                     where (changing) held = .true.
@@ -180,6 +187,7 @@ contains
                                  ' slave nodes changed in the last, '// &
                                  to_text(count(held))//' held in stick; '// &
                                  worst_text(seen(:, iteration) /= before), numerical_error)
+                if (present(unsettled)) unsettled = .true.
                 return
             end if
             call factorise_contact(model, system, contact, result, context, error, .true.)

@@ -9,7 +9,7 @@ module cfrd_increment
     use cfrd_error, only: error_t, fatal_error, numerical_error
     use cfrd_clock, only: wall_seconds
     use cfrd_strings, only: to_text, real_text
-    use cfrd_model, only: model_t, solver_euler, solver_newton
+    use cfrd_model, only: model_t, solver_midpoint, solver_euler, solver_newton
     use cfrd_results, only: stage_result_t
     use cfrd_material_law, only: is_linear, update_history, material_update, &
                                  material_update_tangent, material_tangent, update_substeps
@@ -97,7 +97,7 @@ contains
     !> state changes only when the increment is accepted.
     subroutine solve_increment(model, library, state, system, f_target, du_prescribed, &
                                result, context, error, accepted_residual, may_reject, &
-                               unbalanced)
+                               unbalanced, stalled)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(inout) :: state
@@ -115,15 +115,19 @@ contains
         logical, intent(in), optional :: may_reject
         !> the increment is above ERRTOL (rejected when may_reject, else accepted)
         logical, intent(out), optional :: unbalanced
+        !> the error is a convergence failure (Newton's iterations, the contact active set),
+        !> which a smaller step may cure: the stage driver cuts the increment back
+        logical, intent(out), optional :: stalled
         real(dp), allocatable :: du(:, :), stress_end(:, :, :), stress_mid(:, :, :)
         real(dp) :: residual, load_norm, recent, t0, floor
         real(dp), allocatable :: rhs_stress(:, :, :), d_start(:, :, :, :), f_end(:, :)
         integer, allocatable :: substeps(:, :), grown(:, :)
         integer :: iteration
         type(contact_t), allocatable :: contact
-        logical :: changed, searched, linear, reject
+        logical :: changed, searched, linear, reject, reuse
 
         if (present(unbalanced)) unbalanced = .false.
+        if (present(stalled)) stalled = .false.
         load_norm = max(norm2(f_target), tiny(1.0_dp))
         system%viscous = 0.0_dp
         if (state%has_contact) then
@@ -142,16 +146,25 @@ contains
                 result%stats%nnz = system%pattern%nnz
             end if
         end if
-        ! Predictor with the tangent at the start of the increment.
-        call factorise_at(model, library, state, state%stress, system, result, context, error, &
-                          contact=contact)
-        if (allocated(error)) return
+        ! Predictor with the tangent at the start of the increment; a rejected midpoint
+        ! increment redone from the same state takes back the factorisation of that tangent
+        ! kept from its first attempt (error control, without contact: CHOLMOD's only).
+        reuse = model%solver == solver_midpoint .and. model%error_tolerance > 0.0_dp .and. &
+                .not. state%has_contact
+        if (reuse .and. system%start_kept) then
+            call system%solver%restore()
+            system%start_kept = .false.
+        else
+            call factorise_at(model, library, state, state%stress, system, result, context, &
+                              error, contact=contact)
+            if (allocated(error)) return
+        end if
         ! With creep the start stresses less the stresses the increment's creep relaxes: the
         ! creep load joins the out-of-balance force (cfrd_creep_step).
         rhs_stress = state%stress
         if (allocated(state%creep_stress)) rhs_stress = rhs_stress - state%creep_stress
         call solve_out_of_balance(model, library, state, rhs_stress, f_target, du_prescribed, &
-                                  system, du, result, context, error, contact)
+                                  system, du, result, context, error, contact, unsettled=stalled)
         if (allocated(error)) return
         linear = system%factorised_linear .or. &
                  (state%has_contact .and. all_linear(model, state%active))
@@ -168,11 +181,13 @@ contains
             ! Midpoint: stresses half-way, the tangent there, and the increment again.
             call integrate_stress(model, library, state, 0.5_dp*du, stress_mid, stress_end, &
                                   .false., creep_share=0.5_dp)
+            if (reuse) call system%solver%keep(system%start_kept)
             call factorise_at(model, library, state, stress_mid, system, result, context, &
                               error, contact=contact)
             if (allocated(error)) return
             call solve_out_of_balance(model, library, state, rhs_stress, f_target, &
-                                      du_prescribed, system, du, result, context, error, contact)
+                                      du_prescribed, system, du, result, context, error, &
+                                      contact, unsettled=stalled)
             if (allocated(error)) return
             if (model%solver == solver_newton) then
                 ! The counts first, so that the predictor's stresses are updated once (with
@@ -215,6 +230,7 @@ contains
                                          real_text(model%tolerance)//'; largest out-of-'// &
                                          'balance force at '//worst_node()//')', &
                                          numerical_error)
+                        if (present(stalled)) stalled = .true.
                         return
                     end if
                     recent = residual
@@ -225,6 +241,7 @@ contains
                                      '(relative residual '//real_text(residual)//', tolerance '// &
                                      real_text(model%tolerance)//'; largest out-of-balance '// &
                                      'force at '//worst_node()//')', numerical_error)
+                    if (present(stalled)) stalled = .true.
                     return
                 end if
                 ! More sub-steps where du now asks for them: the stresses and the residual
@@ -252,7 +269,7 @@ contains
                     integer :: halving
                     ! f_target - f_int(stress_end): the internal forces of the residual above
                     call solve_system(model, f_target - f_end, 0.0_dp*du_prescribed, system, &
-                                      ddu, result, context, error, contact, du)
+                                      ddu, result, context, error, contact, du, stalled)
                     if (allocated(error)) return
                     ! Backtracking line search: the E-B tangent has kinks (stress-level cap,
                     ! sigma3 floor, Poisson bounds, unloading transition) where a full
@@ -297,6 +314,7 @@ contains
         if (state%has_contact) then
             if (searched) result%stats%searches = result%stats%searches + 1
         end if
+        system%start_kept = .false.
         state%u = state%u + du
         state%stress = stress_end
         state%f_ext = f_target
@@ -321,7 +339,7 @@ contains
     !> solved with du and the active set iterated (cfrd_active_set); `du_base` is the
     !> increment already taken (Newton).
     subroutine solve_out_of_balance(model, library, state, stress, f_target, du_p, system, &
-                                    du, result, context, error, contact, du_base)
+                                    du, result, context, error, contact, du_base, unsettled)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(in) :: state
@@ -333,6 +351,8 @@ contains
         type(error_t), allocatable, intent(out) :: error
         type(contact_t), intent(inout), optional :: contact
         real(dp), intent(in), optional :: du_base(:, :)
+        !> the error is the contact active set's failure to converge (solve_system)
+        logical, intent(out), optional :: unsettled
         real(dp), allocatable :: f_int(:, :)
         allocate (f_int(2, model%mesh%nnode))
         if (any(du_p /= 0.0_dp)) then
@@ -342,7 +362,7 @@ contains
             call internal_forces(model, library, state%active, stress, f_int)
         end if
         call solve_system(model, f_target - f_int, du_p, system, du, result, context, error, &
-                          contact, du_base)
+                          contact, du_base, unsettled)
     end subroutine solve_out_of_balance
 
     !> Strain (or relative displacement) increments of element e for the nodal increment du,

@@ -44,6 +44,10 @@ module cfrd_linear_system
         !> Regularisation of the slip rows for this solve (contact_element_matrix): 0, or
         !> slip_viscosity after a singular factorisation with sliding nodes
         real(dp) :: viscous = 0.0_dp
+        !> The solver keeps the factorisation of the tangent at the start state of a
+        !> rejected midpoint increment (linear_solver_t%keep): its retry from the same state
+        !> takes it back instead of factorising the same matrix again (issue 21)
+        logical :: start_kept = .false.
     end type system_t
 
     !> The slip rows' regularisation when a body held by friction alone slips at every
@@ -112,6 +116,7 @@ contains
         allocate (system%values(system%pattern%nnz), source=0.0_dp)
         system%factorised_linear = .false.
         system%scale_given = .false.
+        system%start_kept = .false.
     end subroutine new_system
 
     !> The multiplier scale: the largest diagonal entry of K over the largest slave node

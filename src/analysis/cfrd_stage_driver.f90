@@ -312,11 +312,12 @@ contains
         end subroutine creep_only
     end subroutine run_stage
 
-    !> The stage's load in `n` equal increments. An increment whose Newton iterations do not
-    !> converge is cut in half and retried, at most `max_cutbacks` times in a row; after a
-    !> success the step grows back towards the nominal one. Cutbacks are counted in the
-    !> stage's result. When `levels` is not dry the reservoir moves from levels(1) to
-    !> levels(2) in the same steps, and its forces at the reached level join f_start.
+    !> The stage's load in `n` equal increments. An increment whose Newton iterations or
+    !> contact active set do not converge (solve_increment's `stalled`) is cut in half and
+    !> retried, at most `max_cutbacks` times in a row; after a success the step grows back
+    !> towards the nominal one. Cutbacks are counted in the stage's result. When `levels` is
+    !> not dry the reservoir moves from levels(1) to levels(2) in the same steps, and its
+    !> forces at the reached level join f_start.
     subroutine run_increments(model, library, state, system, f_start, stage_force, &
                               du_stage, n, s, label, result, error, levels, dt, wetting)
         type(model_t), intent(in) :: model
@@ -337,7 +338,7 @@ contains
         real(dp), allocatable :: creep_before(:, :, :), wet_before(:, :, :)
         logical :: creeps, wets
         real(dp) :: done, step, nominal, level, residual
-        logical :: unbalanced, rejectable, rejected
+        logical :: unbalanced, rejectable, rejected, stalled
         real(dp), allocatable :: f_water(:, :)
         integer :: cuts, k
         character(len=:), allocatable :: context
@@ -385,7 +386,7 @@ contains
             call solve_increment(model, library, state, system, &
                                  f_start + f_water + stage_force*(done + step), &
                                  du_stage*step, result, context, error, residual, &
-                                 rejectable, unbalanced)
+                                 rejectable, unbalanced, stalled)
             rejected = .not. allocated(error) .and. unbalanced .and. rejectable
             if (creeps .or. wets) then
                 ! the step's creep and wetting are spent (or, not accepted, undone)
@@ -400,7 +401,8 @@ contains
                 cycle
             end if
             if (allocated(error)) then
-                if (index(error%message, 'no convergence') == 0) return
+                ! Only a convergence failure (Newton, the contact active set) is cut back.
+                if (.not. stalled) return
                 if (cuts == max_cutbacks) then
                     error%message = error%message//'; the increment cut back '// &
                                     to_text(cuts)//' times in a row (to '// &

@@ -55,6 +55,7 @@ module cfrd_cholmod
         procedure :: rcond
         procedure :: factor_nonzeros
         procedure :: release
+        procedure :: exchange
         final :: finalise
     end type cholmod_t
 
@@ -320,6 +321,44 @@ contains
         if (allocated(self%up_colptr)) deallocate (self%up_colptr)
         if (allocated(self%up_rowind)) deallocate (self%up_rowind, self%up_from, self%up_values)
     end subroutine release
+
+    !> Exchange the analyses and factorisations of two objects, freeing neither (a
+    !> factorisation set aside and taken back, cfrd_linear_solver's keep and restore).
+    subroutine exchange(self, other)
+        class(cholmod_t), intent(inout) :: self
+        type(cholmod_t), intent(inout) :: other
+        type(c_ptr) :: handle
+        integer(c_int), allocatable :: colptr(:), rowind(:)
+        integer, allocatable :: from(:)
+        real(c_double), allocatable :: values(:)
+        integer :: numbers(2)
+        logical :: flags(2)
+        handle = self%handle
+        numbers = [self%ordering, self%n]
+        flags = [self%analysed, self%factorised]
+        call move_alloc(self%up_colptr, colptr)
+        call move_alloc(self%up_rowind, rowind)
+        call move_alloc(self%up_from, from)
+        call move_alloc(self%up_values, values)
+        self%handle = other%handle
+        self%ordering = other%ordering
+        self%n = other%n
+        self%analysed = other%analysed
+        self%factorised = other%factorised
+        call move_alloc(other%up_colptr, self%up_colptr)
+        call move_alloc(other%up_rowind, self%up_rowind)
+        call move_alloc(other%up_from, self%up_from)
+        call move_alloc(other%up_values, self%up_values)
+        other%handle = handle
+        other%ordering = numbers(1)
+        other%n = numbers(2)
+        other%analysed = flags(1)
+        other%factorised = flags(2)
+        call move_alloc(colptr, other%up_colptr)
+        call move_alloc(rowind, other%up_rowind)
+        call move_alloc(from, other%up_from)
+        call move_alloc(values, other%up_values)
+    end subroutine exchange
 
     subroutine finalise(self)
         type(cholmod_t), intent(inout) :: self

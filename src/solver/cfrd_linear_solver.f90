@@ -37,6 +37,10 @@ module cfrd_linear_solver
         logical :: use_llt = .false.         !! the current matrix goes to CHOLMOD
         logical :: llt_factorised = .false.  !! the kept factorisation is CHOLMOD's
         logical :: lu_analysed = .false.
+        !> A CHOLMOD factorisation set aside (keep) to be taken back (restore): the
+        !> midpoint predictor's, at the start state of an increment that may be rejected
+        type(cholmod_t) :: spare
+        logical :: spare_factorised = .false.
     contains
         procedure :: configure
         procedure :: set_row_scaling
@@ -50,6 +54,8 @@ module cfrd_linear_solver
         procedure :: factor_nonzeros
         procedure :: is_updated
         procedure :: is_cholesky
+        procedure :: keep
+        procedure :: restore
         procedure :: release
     end type linear_solver_t
 
@@ -208,11 +214,36 @@ contains
         is_cholesky = self%llt_factorised
     end function is_cholesky
 
+    !> Set the current factorisation aside when it is CHOLMOD's (`kept`), so that restore
+    !> can take it back; the next one is analysed and factorised in the other CHOLMOD
+    !> object (the analysis depends on the pattern alone: the same factors, bit for bit).
+    subroutine keep(self, kept)
+        class(linear_solver_t), intent(inout) :: self
+        logical, intent(out) :: kept
+        kept = self%llt_factorised
+        if (.not. kept) return
+        call self%llt%exchange(self%spare)
+        self%spare_factorised = .true.
+        self%llt_factorised = .false.
+    end subroutine keep
+
+    !> Take back the factorisation set aside by keep: the solves are with it again.
+    subroutine restore(self)
+        class(linear_solver_t), intent(inout) :: self
+        if (.not. self%spare_factorised) return
+        call self%llt%exchange(self%spare)
+        self%spare_factorised = .false.
+        self%llt_factorised = .true.
+        self%use_llt = .true.
+    end subroutine restore
+
     !> Free both libraries' factorisations and the pattern's mirror (a new pattern follows).
     subroutine release(self)
         class(linear_solver_t), intent(inout) :: self
         call self%lu%release()
         call self%llt%release()
+        call self%spare%release()
+        self%spare_factorised = .false.
         if (allocated(self%mirror)) deallocate (self%mirror)
         self%use_llt = .false.
         self%llt_factorised = .false.
