@@ -9,9 +9,10 @@ module test_analysis_slab
     use cfrd_testing, only: unittest_t, new_unittest, check, fail
     use cfrd_model, only: model_t, stage_t, stage_load, interface_element_t, &
                           elem_quad4_shear, elem_joint_gauss, method_joint
-    use cfrd_results, only: results_t, slab_result_t, body_extremes_t
+    use cfrd_results, only: results_t, slab_result_t, body_extremes_t, singular_radius_t
     use cfrd_interface, only: slab_stresses
     use cfrd_body_extremes, only: body_extremes
+    use cfrd_beam_foundation, only: vesic_modulus, decay_rate, decay_radius
     use cfrd_stage_driver, only: run_analysis
     use cfrd_test_models, only: new_model, elastic_material, linear_joint
     implicit none
@@ -27,6 +28,7 @@ contains
         type(unittest_t), allocatable, intent(out) :: tests(:)
         tests = [new_unittest('hetenyi_point_load', test_hetenyi), &
                  new_unittest('extremes_without_singular_points', test_extremes), &
+                 new_unittest('vesic_worked_example', test_vesic), &
                  new_unittest('skewed_columns_are_sections', test_skewed_columns)]
     end subroutine collect_analysis_slab
 
@@ -46,6 +48,11 @@ contains
     !> to 3 % of their peak, V to 3 % of P/2, N to 1 % of H. Measured: M 0.49 %, V 0.13 %,
     !> N 0.05 %, fibre stresses 0.52 % of their peaks. (The slab's elements must be longer
     !> than thick: slab_stresses takes an element's longer axis as the slab's.)
+    !> The decay length (the summary's radius around a singular point, docs/theory.md
+    !> section 13): Hetenyi's V vanishes first at lambda x = pi/2 on each side of the load,
+    !> so twice the distance of the FE shear's first zero (linear between sections) is
+    !> pi / lambda; against pi / decay_rate(k, EI, 1 m) to 3 % (the tolerance of V above: a
+    !> 0.13 % error of V moves the zero by 0.4 %). Measured: see the line printed.
     subroutine test_hetenyi(error)
         type(error_t), allocatable, intent(out) :: error
         type(model_t) :: model
@@ -53,7 +60,8 @@ contains
         integer, parameter :: nx = 56
         real(dp), parameter :: length = 28.0_dp, h = 0.6_dp, e = 3.0e7_dp, k = 1.0e5_dp, &
                                p = 1000.0_dp, hf = 3000.0_dp
-        real(dp) :: t(2), n(2), beta, x, m_ref, v_ref, m_peak, s_load, worst(4)
+        real(dp) :: t(2), n(2), beta, x, m_ref, v_ref, m_peak, s_load, worst(4), zero(2), &
+                    reach
         real(dp), allocatable :: xy(:, :)
         integer, allocatable :: conn(:, :), mat(:)
         integer :: i, j, el, nsec
@@ -140,8 +148,40 @@ contains
             call check(error, worst(3) <= 0.01_dp, 'N within 1 % of H')
             if (allocated(error)) return
             call check(error, worst(4) <= 0.03_dp, 'fibre stresses within 3 % of 6M/h^2')
+            if (allocated(error)) return
+            ! The shear's first zero on each side of the load (V > 0 above it, < 0 below).
+            zero = -1.0_dp
+            do i = nx/2 + 1, nsec - 1
+                if (r%shear(i) > 0.0_dp .and. r%shear(i + 1) <= 0.0_dp) then
+                    zero(1) = crossing(r%section_s(i), r%shear(i), r%section_s(i + 1), &
+                                       r%shear(i + 1)) - s_load
+                    exit
+                end if
+            end do
+            do i = nx/2, 2, -1
+                if (r%shear(i) < 0.0_dp .and. r%shear(i - 1) >= 0.0_dp) then
+                    zero(2) = s_load - crossing(r%section_s(i), r%shear(i), &
+                                                r%section_s(i - 1), r%shear(i - 1))
+                    exit
+                end if
+            end do
+            if (any(zero < 0.0_dp)) then
+                call fail(error, 'the shear has no zero on one side of the load')
+                return
+            end if
+            reach = 4.0_dp*atan(1.0_dp)/decay_rate(k, e*h**3/12.0_dp, 1.0_dp)
+            write (*, '(a,f8.4,a,f8.4,a,f6.3,a)') '    decay length: pi/lambda ', reach, &
+                ' m, twice the FE shear''s first zero ', sum(zero), ' m (', &
+                100*abs(sum(zero) - reach)/reach, ' %)'
+            call check(error, abs(sum(zero) - reach) <= 0.03_dp*reach, &
+                       'pi/lambda within 3 % of twice the first zero of V')
         end associate
     contains
+        !> The zero of the line through (s1, v1) and (s2, v2).
+        pure real(dp) function crossing(s1, v1, s2, v2)
+            real(dp), intent(in) :: s1, v1, s2, v2
+            crossing = s1 + (s2 - s1)*v1/(v1 - v2)
+        end function crossing
         pure integer function node(i, j)
             integer, intent(in) :: i, j
             node = j*(nx + 1) + i + 1
@@ -154,9 +194,12 @@ contains
 
     !> Extremes per body without the singular points (constructed case): a slab of three
     !> 1 x 0.5 m quads (SLAB group) on three rockfill quads of 1 x 1 m, bonded, node 1 (the
-    !> slab's lower corner, shared with the rockfill) fixed. Radius 2 h = 1 m: slab element 1
-    !> (centroid 0.56 m from node 1) and rockfill element 4 (0.71 m) are left out, the others
-    !> (1.5 m and more) are not. Given sigma1 = 900, 500, 700 and sigma3 = -900, -100, -300 in
+    !> slab's lower corner, shared with the rockfill) fixed. Radius: the slab (E = 3e7 kPa,
+    !> nu = 0.2, h = 0.5 m) on the rockfill of the same E and nu as a Vesic foundation,
+    !> closed form written out here: D = E h^3 / (12 (1 - nu^2)), k = 0.65 (E / D)^(1/12)
+    !> E / (1 - nu^2) (b = 1 m), pi / lambda = pi (4 D / k)^(1/4) = 1.439 m, more than 2 h =
+    !> 1 m: slab element 1 (centroid 0.56 m from node 1) and rockfill element 4 (0.71 m) are
+    !> left out, the others (1.52 m and more) are not. Given sigma1 = 900, 500, 700 and sigma3 = -900, -100, -300 in
     !> the slab, sigma1 = 80, 20, 10 and sigma3 = -800, -50, -60 in the rockfill: slab
     !> extremes 700 (element 3) and -300 (element 3), rockfill 20 (element 5) and -60
     !> (element 6), one element left out of each; singular nodes: node 1 alone. Slab
@@ -169,7 +212,8 @@ contains
         type(body_extremes_t), allocatable :: ex(:)
         integer, allocatable :: nodes(:)
         real(dp), allocatable :: radius(:)
-        real(dp) :: xy(2, 12), principal(3, 6), stress(4, 4, 6)
+        type(singular_radius_t), allocatable :: why(:)
+        real(dp) :: xy(2, 12), principal(3, 6), stress(4, 4, 6), d, k
         integer :: conn(4, 6), i
         ! Rows of 4 nodes at y = -1, 0, 0.5: rockfill below, slab above.
         do i = 0, 3
@@ -198,12 +242,17 @@ contains
         stress(1, :, 1:3) = spread([900.0_dp, 500.0_dp, 700.0_dp], 1, 4)
         call slab_stresses(model, stress, [(.true., i=1, 6)], slab)
         call body_extremes(model, principal, [(.true., i=1, 6)], [(.true., i=1, 6)], slab, &
-                           ex, nodes, radius)
+                           ex, nodes, radius, why)
         call check(error, size(nodes), 1, 'one singular node')
         if (allocated(error)) return
         call check(error, nodes(1), 1, 'the slab''s fixed corner')
         if (allocated(error)) return
-        call check(error, radius(1), 1.0_dp, 'two slab thicknesses', rel=1e-12_dp)
+        d = 3.0e7_dp*0.5_dp**3/(12.0_dp*(1.0_dp - 0.2_dp**2))
+        k = 0.65_dp*(3.0e7_dp/d)**(1.0_dp/12.0_dp)*3.0e7_dp/(1.0_dp - 0.2_dp**2)
+        call check(error, radius(1), 4.0_dp*atan(1.0_dp)*(4.0_dp*d/k)**0.25_dp, &
+                   'pi / lambda of the slab on a Vesic foundation', rel=1e-12_dp)
+        if (allocated(error)) return
+        call check(error, why(1)%support, 4, 'the supporting element')
         if (allocated(error)) return
         call check(error, all([ex%max_element, ex%min_element, ex%left_out] == &
                               [3, 5, 3, 6, 1, 1]), 'elements of the extremes, and left out')
@@ -221,6 +270,44 @@ contains
         call check(error, slab%section_x(ex(1)%max_membrane_section), 2.5_dp, &
                    'section of the largest N/h', rel=1e-9_dp)
     end subroutine test_extremes
+
+    !> Vesic's modulus against a published worked example (the calculation sheet "Calculation
+    !> of the modulus of reaction of the soil", scribd document 680935098, its line "(Vesic,
+    !> 1961)"): a footing B = 3 m wide, h = 0.5 m thick (I = B h^3 / 12), Ec = 30620 MPa, on
+    !> soil of E = 10 MPa, nu = 0.30: k = 2348.118 kN/m^3 (printed to 7 digits: 1e-6). And
+    !> the radius of cfrd_beam_foundation: 2 h governs a slab on a stiff foundation (decay
+    !> length below it), pi / lambda a soft one; a layer in series lowers k as 1/k + c.
+    subroutine test_vesic(error)
+        type(error_t), allocatable, intent(out) :: error
+        real(dp) :: k, r, k1, r1, pi
+        pi = 4.0_dp*atan(1.0_dp)
+        call check(error, vesic_modulus(1.0e4_dp, 0.3_dp, 30620.0e3_dp*3.0_dp*0.5_dp**3/12.0_dp, &
+                                        3.0_dp), 2348.118_dp, 'Vesic k of the worked example', &
+                   rel=1e-6_dp)
+        if (allocated(error)) return
+        ! Hetenyi's lambda = (k b / (4 EI))^(1/4): k = 4 EI / b gives 1.
+        call check(error, decay_rate(4.0e3_dp, 2.0e3_dp, 2.0_dp), 1.0_dp, 'lambda', &
+                   rel=1e-14_dp)
+        if (allocated(error)) return
+        ! A slab of h = 0.9 m (E 3e7 kPa, nu 0.2) on E_s = 1e5 kPa, nu_s 0.3, alone and with a
+        ! joint of kn = 1e5 kPa/m in series: pi / lambda from the closed forms.
+        call decay_radius(0.9_dp, 3.0e7_dp, 0.2_dp, 1.0e5_dp, 0.3_dp, 0.0_dp, r, k)
+        call check(error, k, 0.65_dp*(1.0e5_dp*12.0_dp*(1.0_dp - 0.2_dp**2)/ &
+                                      (3.0e7_dp*0.9_dp**3))**(1.0_dp/12.0_dp)*1.0e5_dp/ &
+                   (1.0_dp - 0.3_dp**2), 'k of the slab strip', rel=1e-12_dp)
+        if (allocated(error)) return
+        call check(error, r, pi*(4.0_dp*3.0e7_dp*0.9_dp**3/(12.0_dp*(1.0_dp - 0.2_dp**2))/k) &
+                   **0.25_dp, 'pi / lambda', rel=1e-12_dp)
+        if (allocated(error)) return
+        call decay_radius(0.9_dp, 3.0e7_dp, 0.2_dp, 1.0e5_dp, 0.3_dp, 1.0e-5_dp, r1, k1)
+        call check(error, k1, 1.0_dp/(1.0_dp/k + 1.0e-5_dp), 'k with a joint in series', &
+                   rel=1e-12_dp)
+        if (allocated(error)) return
+        call check(error, r1, r*(k/k1)**0.25_dp, 'pi / lambda with the joint', rel=1e-12_dp)
+        if (allocated(error)) return
+        call decay_radius(0.9_dp, 3.0e7_dp, 0.2_dp, 0.0_dp, 0.3_dp, 0.0_dp, r, k)
+        call check(error, r == 0.0_dp .and. k == 0.0_dp, 'no foundation: no decay length')
+    end subroutine test_vesic
 
     !> Sections of a slab cut along skewed lines (constructed case): 3 columns of 8 layers,
     !> each element 2 m along the axis and h/8 across, every cross line skewed so that a

@@ -481,7 +481,7 @@ contains
                     if (allocated(model%interfaces)) used(model%interfaces%element) = .false.
                     call body_extremes(model, result%principal, state%active, used, &
                                        result%slab, result%extremes, result%singular_nodes, &
-                                       result%singular_radius)
+                                       result%singular_radius, result%singular_why)
                 end if
             end if
             if (present(light)) then

@@ -526,14 +526,28 @@ contains
         end if
         write (unit, '(a,i0,a,i0,a)') '  left out: ', stage%extremes(1)%left_out, ' slab and ', &
             stage%extremes(2)%left_out, ' rockfill elements, and the slab sections (max fibre,'// &
-            ' max N/h), with their centroid within two slab thicknesses of a slab node on a'// &
-            ' support, where the stresses are singular'// &
-            ' (they grow as the mesh is refined; docs/theory.md section 13):'
+            ' max N/h), with their centroid within a radius of a slab node on a support,'// &
+            ' where the stresses are singular (they grow as the mesh is refined) and the'// &
+            ' slab is disturbed: the larger of 2 h and pi/lambda, the reach of an end'// &
+            ' disturbance of the slab as a beam on its cushion as an elastic foundation'// &
+            ' (Hetenyi 1946, k of Vesic 1961; docs/theory.md section 13):'
         write (unit, '(a,*(1x,i0))') '    nodes', stage%singular_nodes
         associate (x => model%mesh%x(:, stage%singular_nodes))
             write (unit, '(a,2f10.3,a,2f10.3,a,2f7.3,a)') '    x', minval(x(1, :)), &
                 maxval(x(1, :)), ' m, y', minval(x(2, :)), maxval(x(2, :)), ' m; radius', &
                 minval(stage%singular_radius), maxval(stage%singular_radius), ' m'
+        end associate
+        k = maxloc(stage%singular_radius, dim=1)
+        associate (w => stage%singular_why(k))
+            if (w%support == 0) then
+                write (unit, '(a,f7.3,a)') '    2 h =', 2.0_dp*w%thickness, &
+                    ' m (no elastic slab on a rockfill element found: pi/lambda not known)'
+            else
+                write (unit, '(a,f7.3,a,f7.3,a,i0,a,es11.4,a,es11.4,a)') '    largest: 2 h =', &
+                    2.0_dp*w%thickness, ' m, pi/lambda =', w%decay, ' m (support element ', &
+                    w%support, ', E-B initial or elastic modulus', w%es, ' kPa; k =', &
+                    w%modulus, ' kPa/m)'
+            end if
         end associate
     end subroutine write_body_extremes
 

@@ -10,7 +10,7 @@ module cfrd_duncan_eb
 
     public :: eb_params_t, eb_state_t, eb_tangent, eb_stress_state, eb_initial_modulus
     public :: eb_failure_deviator, eb_friction_angle, eb_principal, eb_unload_modulus
-    public :: nu_t_max, eb_linear_moduli, eb_moduli_gradient, eb_substeps
+    public :: nu_t_max, eb_linear_moduli, eb_initial_moduli, eb_moduli_gradient, eb_substeps
 
     !> Upper bound of the tangent Poisson ratio: Bt <= Et / (3 (1 - 2 nu_t_max)).
     real(dp), parameter :: nu_t_max = 0.49_dp
@@ -82,17 +82,26 @@ contains
     end function eb_initial_modulus
 
     !> The moduli of the linear-elastic stand-in for the law (EFFECTS card, ROCKFILL LINEAR):
-    !> the tangent at sigma3 = pa and stress level 0, E = K pa, B = Kb pa, bounded as in
-    !> eb_tangent, and nu = (3 B - E) / (6 B) (docs/theory.md section 8).
+    !> the initial moduli at sigma3 = pa (docs/theory.md section 8).
     pure subroutine eb_linear_moduli(p, e, nu)
         type(eb_params_t), intent(in) :: p
         real(dp), intent(out) :: e, nu
+        call eb_initial_moduli(p, p%pa, e, nu)
+    end subroutine eb_linear_moduli
+
+    !> The law's moduli at stress level 0 and confining stress sigma3 (kPa, compression +,
+    !> floored): Ei = K pa (sigma3/pa)^n, B = Kb pa (sigma3/pa)^m bounded as in eb_tangent,
+    !> and nu = (3 B - Ei) / (6 B).
+    pure subroutine eb_initial_moduli(p, sigma3, e, nu)
+        type(eb_params_t), intent(in) :: p
+        real(dp), intent(in) :: sigma3
+        real(dp), intent(out) :: e, nu
         real(dp) :: b
-        e = eb_initial_modulus(p, p%pa)
-        b = p%kb*p%pa
+        e = eb_initial_modulus(p, sigma3)
+        b = p%kb*p%pa*(max(sigma3, p%sigma3_floor)/p%pa)**p%m
         b = min(max(b, e/3.0_dp), e/(3.0_dp*(1.0_dp - 2.0_dp*nu_t_max)))
         nu = (3.0_dp*b - e)/(6.0_dp*b)
-    end subroutine eb_linear_moduli
+    end subroutine eb_initial_moduli
 
     !> Unload-reload modulus Eur = Kur pa (sigma3/pa)^n.
     pure real(dp) function eb_unload_modulus(p, sigma3) result(eur)

@@ -7,6 +7,7 @@ module cfrd_results
 
     public :: stage_result_t, results_t, solver_stats_t
     public :: interface_result_t, opening_t, slab_result_t, contact_result_t, body_extremes_t
+    public :: singular_radius_t
     public :: pjoint_result_t, carry_t
 
     !> Figures of the linear solves, for the listing and the benchmark.
@@ -136,6 +137,17 @@ module cfrd_results
         real(dp) :: max_membrane = 0.0_dp             !! slab: kPa, the membrane stress N/h there
         integer :: left_out = 0                       !! active elements left out
     end type body_extremes_t
+
+    !> How the radius around one singular node was found (docs/theory.md
+    !> section 13; for the listing).
+    type :: singular_radius_t
+        real(dp) :: thickness = 0.0_dp   !! m, the slab's h at the node
+        real(dp) :: decay = 0.0_dp       !! m, pi / lambda (0: no foundation found)
+        real(dp) :: modulus = 0.0_dp     !! kPa/m, the foundation's k (with the interface)
+        real(dp) :: es = 0.0_dp          !! kPa, the supporting element's modulus
+        integer :: support = 0           !! the supporting element (0: none)
+    end type singular_radius_t
+
     !> The perimetric joints (INTERFACE lines of PJOINT material; docs/theory.md section
     !> 12), one entry per line: the relative displacements of the slab
     !> side over the plinth side averaged over the line's length, in the joint's frame:
@@ -231,6 +243,7 @@ module cfrd_results
         type(body_extremes_t), allocatable :: extremes(:)
         integer, allocatable :: singular_nodes(:)
         real(dp), allocatable :: singular_radius(:)   !! m
+        type(singular_radius_t), allocatable :: singular_why(:)   !! how each radius was found
         type(pjoint_result_t) :: pjoint               !! the perimetric joints (PJOINT lines)
         real(dp) :: applied_load(2) = 0.0_dp          !! sum of applied forces, kN/m
         real(dp) :: reaction_sum(2) = 0.0_dp          !! sum of reactions, kN/m
