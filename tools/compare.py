@@ -27,7 +27,7 @@ import sys
 
 import numpy as np
 
-from cfrdtools.results import open_results, text
+from cfrdtools.results import DERIVED, field, open_results, text
 
 # quantity -> (location kind, components), in the order of docs/results.md.
 QUANTITIES = {
@@ -160,8 +160,8 @@ def read_h5(path, wanted=None):
                     ("stress", "stress_centroid", elements, elements + 1, slice(None)),
                     ("principal", "principal", elements, elements + 1, slice(0, 2)),
                     ("stress_level", "stress_level", elements, elements + 1, slice(None))):
-                if dset in g and want(q):
-                    v = g[dset][...][rows]
+                if (dset in g or dset in DERIVED) and want(q):
+                    v = field(f, g, dset)[rows]     # a lean file's derived fields computed
                     rs.add(q, s, [int(i) for i in ids], QUANTITIES[q][1],
                            v[..., cols] if v.ndim > 1 else v)
             if "reaction" in g and want("reaction"):

@@ -27,6 +27,7 @@ module cfrd_hdf5
     use cfrd_effects, only: effects_text
     use cfrd_run_identity, only: run_identity_t
     use cfrd_h5_state, only: write_stage_state
+    use cfrd_h5_links, only: kept_t, real1_once, real2_once, real3_once, link_same
     implicit none
     private
 
@@ -47,6 +48,11 @@ module cfrd_hdf5
         !> the stages' real datasets in IEEE single precision (about 7 digits), the mesh,
         !> the deck and every attribute in double
         logical :: single = .false.
+        !> cfrd --results full: also what is derived or stored twice (stress_centroid,
+        !> principal, displacement_xyz, displacement_total_xyz; displacement_total and the
+        !> constant geometry written out at every stage, not linked): the layout before
+        !> issue 21. Default (lean): those are left out or linked (docs/results.md)
+        logical :: full = .false.
     end type results_format_t
 
     !> A results file open for writing, one stage after another.
@@ -59,6 +65,8 @@ module cfrd_hdf5
         logical :: contact = .false.         !! the deck has CONTACT pairs
         type(results_format_t) :: format
         character(len=:), allocatable :: path
+        !> lean files: the datasets stored once, linked while their values stay the same
+        type(kept_t), allocatable :: kept(:)
     end type results_file_t
 
 contains
@@ -144,6 +152,7 @@ contains
         call attr_text(file%file_id, 'fields_precision', &
                        merge('float32', 'float64', file%format%single), st)
         call attr_int(file%file_id, 'deflate_level', file%format%deflate, st)
+        call attr_text(file%file_id, 'results', merge('full', 'lean', file%format%full), st)
 
         call open_group(file%file_id, 'input', group_id, st)
         call dataset_text(group_id, 'deck', model%deck_text, st)
@@ -209,6 +218,7 @@ contains
         integer(hid_t) :: stage_id, solver_id
         character(len=16) :: stage_name
         real(dp), allocatable :: u3(:, :)
+        logical :: linked
 
         if (file%stages_id < 0) then
             call fatal_error(error, 'the results file is not open', io_error)
@@ -240,48 +250,61 @@ contains
         call attr_text(stage_id, 'attribute_units', 'water_level m; max_residual -; '// &
                        'wall_time s; applied_load, reaction_sum kN/m (x, y)', st)
         call dataset_int1(stage_id, 'active', merge(1, 0, stage%active), st)
-        call dataset_real1(stage_id, 'stress_level', stage%stress_level, '-', &
-                           'largest Gauss-point stress level of the element', st)
-        call dataset_real2(stage_id, 'displacement', stage%displacement, 'm', 'ux, uy', st)
-        call dataset_real2(stage_id, 'displacement_total', stage%displacement_total, 'm', &
-                           'ux, uy since placement (RESETs added back)', st)
-        ! Three-component copies for XDMF (ParaView's vectors have three components).
-        allocate (u3(3, size(stage%displacement, 2)), source=0.0_dp)
-        u3(1:2, :) = stage%displacement
-        call dataset_real2(stage_id, 'displacement_xyz', u3, 'm', &
-                           'ux, uy, 0 (displacement padded with z = 0 for XDMF)', st)
-        u3(1:2, :) = stage%displacement_total
-        call dataset_real2(stage_id, 'displacement_total_xyz', u3, 'm', &
-                           'ux, uy, 0 (displacement_total padded with z = 0 for XDMF)', st)
-        deallocate (u3)
-        call dataset_real2(stage_id, 'reaction', stage%reaction, 'kN/m', 'rx, ry', st)
-        call dataset_real3(stage_id, 'stress_gauss', stage%stress_gauss, 'kPa', &
-                           'xx, yy, zz, xy', st)
-        call dataset_real2(stage_id, 'stress_centroid', stage%stress_centroid, 'kPa', &
-                           'xx, yy, zz, xy', st)
-        call dataset_real2(stage_id, 'principal', stage%principal, 'kPa, kPa, deg', &
-                           'sigma1, sigma3, angle of sigma1 from x', st)
+        call field1('stress_level', stage%stress_level, '-', &
+                    'largest Gauss-point stress level of the element')
+        call field2('displacement', stage%displacement, 'm', 'ux, uy')
+        ! lean: before the first RESET displacement_total is displacement, bit for bit: a
+        ! second name of the same dataset
+        linked = .false.
+        if (.not. file%format%full) call link_same(stage_id, 'displacement', &
+            'displacement_total', stage%displacement, stage%displacement_total, st, linked)
+        if (.not. linked) call dataset_real2(stage_id, 'displacement_total', &
+            stage%displacement_total, 'm', 'ux, uy since placement (RESETs added back)', st)
+        if (file%format%full) then
+            ! Three-component copies for XDMF (ParaView's vectors have three components);
+            ! a lean file's XDMF pads the two-component datasets itself (cfrd_xdmf).
+            allocate (u3(3, size(stage%displacement, 2)), source=0.0_dp)
+            u3(1:2, :) = stage%displacement
+            call dataset_real2(stage_id, 'displacement_xyz', u3, 'm', &
+                               'ux, uy, 0 (displacement padded with z = 0 for XDMF)', st)
+            u3(1:2, :) = stage%displacement_total
+            call dataset_real2(stage_id, 'displacement_total_xyz', u3, 'm', &
+                               'ux, uy, 0 (displacement_total padded with z = 0 for XDMF)', st)
+            deallocate (u3)
+        end if
+        call field2('reaction', stage%reaction, 'kN/m', 'rx, ry')
+        call field3('stress_gauss', stage%stress_gauss, 'kPa', &
+                    'xx, yy, zz, xy')
+        ! Derived from stress_gauss: tools/cfrdtools/results.py recomputes them bit for bit
+        ! (tools/check_results_lean.py); written with --results full.
+        if (file%format%full) then
+            call dataset_real2(stage_id, 'stress_centroid', stage%stress_centroid, 'kPa', &
+                               'xx, yy, zz, xy', st)
+            call dataset_real2(stage_id, 'principal', stage%principal, 'kPa, kPa, deg', &
+                               'sigma1, sigma3, angle of sigma1 from x', st)
+        end if
         if (allocated(stage%strain_gauss)) &
-            call dataset_real3(stage_id, 'strain_gauss', stage%strain_gauss, '-, m', &
-                               'xx, yy, zz, xy since placement (joints: du_n, du_s in m)', st)
+            call field3('strain_gauss', stage%strain_gauss, '-, m', &
+                        'xx, yy, zz, xy since placement (joints: du_n, du_s in m)')
         if (allocated(stage%history_gauss)) &
-            call dataset_real3(stage_id, 'history_gauss', stage%history_gauss, '-', &
-                               'past maximum of the E-B stress-state function SS = SL '// &
-                               '(sigma3/pa)^(1/4), past maximum of the stress level SL '// &
-                               '(zero for other laws)', st)
+            call field3('history_gauss', stage%history_gauss, '-', &
+                        'past maximum of the E-B stress-state function SS = SL '// &
+                        '(sigma3/pa)^(1/4), past maximum of the stress level SL '// &
+                        '(zero for other laws)')
         if (allocated(stage%creep_gauss)) &
-            call dataset_real3(stage_id, 'creep_gauss', stage%creep_gauss, '-', &
-                               'volumetric and generalised shear creep strain reached '// &
-                               '(compression positive; zero where the material does not '// &
-                               'creep)', st)
+            call field3('creep_gauss', stage%creep_gauss, '-', &
+                        'volumetric and generalised shear creep strain reached '// &
+                        '(compression positive; zero where the material does not '// &
+                        'creep)')
         if (allocated(stage%wetting_gauss)) &
-            call dataset_real3(stage_id, 'wetting_gauss', stage%wetting_gauss, '-', &
-                               'volumetric and generalised shear wetting strain reached '// &
-                               '(compression positive; zero where nothing was wetted)', st)
-        call write_interface_stage(stage_id, file, stage, st)
+            call field3('wetting_gauss', stage%wetting_gauss, '-', &
+                        'volumetric and generalised shear wetting strain reached '// &
+                        '(compression positive; zero where nothing was wetted)')
+        call write_interface_stage(stage_id, '/stages/'//trim(stage_name), file, stage, st)
         call write_pjoint_h5(stage_id, stage, st)
         ! what a restart from this stage needs (docs/results.md, "Restart")
-        if (allocated(stage%carry%f_ext)) call write_stage_state(stage_id, stage, st)
+        if (allocated(stage%carry%f_ext)) call write_stage_state(stage_id, stage, st, &
+                                                                 .not. file%format%full)
         call open_group(stage_id, 'solver', solver_id, st)
         call attr_int(solver_id, 'neq', stage%stats%neq, st)
         call attr_int(solver_id, 'nnz', stage%stats%nnz, st)
@@ -316,6 +339,41 @@ contains
         if (.not. st%ok) call fatal_error(error, 'cannot write the results file '// &
                                           file%path//': HDF5 failed at '//st%failed// &
                                           ' of '//trim(stage_name), io_error)
+    contains
+        !> A stage field: a lean file links it to the last stage's when its values are the
+        !> same bits (a RESET stage changes no stress; cfrd_h5_links), else writes it.
+        subroutine field1(name, values, units, components)
+            character(len=*), intent(in) :: name, units, components
+            real(dp), intent(in) :: values(:)
+            if (file%format%full) then
+                call dataset_real1(stage_id, name, values, units, components, st)
+            else
+                call real1_once(file%kept, name, stage_id, '/stages/'//trim(stage_name), name, &
+                                values, units, components, st)
+            end if
+        end subroutine field1
+
+        subroutine field2(name, values, units, components)
+            character(len=*), intent(in) :: name, units, components
+            real(dp), intent(in) :: values(:, :)
+            if (file%format%full) then
+                call dataset_real2(stage_id, name, values, units, components, st)
+            else
+                call real2_once(file%kept, name, stage_id, '/stages/'//trim(stage_name), name, &
+                                values, units, components, st)
+            end if
+        end subroutine field2
+
+        subroutine field3(name, values, units, components)
+            character(len=*), intent(in) :: name, units, components
+            real(dp), intent(in) :: values(:, :, :)
+            if (file%format%full) then
+                call dataset_real3(stage_id, name, values, units, components, st)
+            else
+                call real3_once(file%kept, name, stage_id, '/stages/'//trim(stage_name), name, &
+                                values, units, components, st)
+            end if
+        end subroutine field3
     end subroutine write_stage_h5
 
     !> Close the file: with `complete`, set the root attribute `complete` to 1; `wall_time`
@@ -366,9 +424,10 @@ contains
     end subroutine flush_file
 
     !> The stage's interface stations, openings per slab phase and slab stresses.
-    subroutine write_interface_stage(stage_id, file, stage, st)
+    subroutine write_interface_stage(stage_id, stage_path, file, stage, st)
         integer(hid_t), intent(in) :: stage_id
-        type(results_file_t), intent(in) :: file
+        character(len=*), intent(in) :: stage_path    !! /stages/stage_NNNN
+        type(results_file_t), intent(inout) :: file
         type(stage_result_t), intent(in) :: stage
         type(h5_state_t), intent(inout) :: st
         integer(hid_t) :: id
@@ -376,9 +435,9 @@ contains
         if (file%interfaces) then
             call open_group(stage_id, 'interface', id, st)
             associate (r => stage%interface)
-                call dataset_real2(id, 'x', r%x, 'm', 'station 1, 2 of each interface element', st)
-                call dataset_real2(id, 'y', r%y, 'm', 'station 1, 2', st)
-                call dataset_real2(id, 's', r%s, 'm', 'distance along the line', st)
+                call geometry2('interface', 'x', r%x, 'station 1, 2 of each interface element')
+                call geometry2('interface', 'y', r%y, 'station 1, 2')
+                call geometry2('interface', 's', r%s, 'distance along the line')
                 call dataset_real2(id, 'sigma_n', r%sigma_n, 'kPa', 'normal stress, tension +', st)
                 call dataset_real2(id, 'tau', r%tau, 'kPa', 'shear stress along t', st)
                 call dataset_real2(id, 'du_n', r%du_n, 'm', 'relative normal displacement, opening +', &
@@ -405,9 +464,9 @@ contains
                 call dataset_int1(id, 'group', r%group, st)
                 call dataset_int1(id, 'placed', merge(1, 0, r%placed), st)
                 call dataset_int1(id, 'status', r%status, st)
-                call dataset_real1(id, 'x', r%x, 'm', 'slave node, as meshed', st)
-                call dataset_real1(id, 'y', r%y, 'm', 'slave node, as meshed', st)
-                call dataset_real1(id, 's', r%s, 'm', 'along the slave surface', st)
+                call geometry1('contact', 'x', r%x, 'm', 'slave node, as meshed')
+                call geometry1('contact', 'y', r%y, 'm', 'slave node, as meshed')
+                call geometry1('contact', 's', r%s, 'm', 'along the slave surface')
                 call dataset_real1(id, 'gap', r%gap, 'm', 'normal gap, open +', st)
                 call dataset_real1(id, 'slip', r%slip, 'm', 'accumulated slip along t', st)
                 call dataset_real1(id, 'sigma_n', r%sigma_n, 'kPa', &
@@ -432,26 +491,50 @@ contains
             call open_group(stage_id, 'slab', id, st)
             associate (r => stage%slab)
                 call dataset_int1(id, 'element', r%element, st)
-                call dataset_real2(id, 'x', r%x, 'm', 'Gauss points', st)
-                call dataset_real2(id, 'y', r%y, 'm', 'Gauss points', st)
-                call dataset_real2(id, 's', r%s, 'm', 'along the slab axis', st)
+                call geometry2('slab', 'x', r%x, 'Gauss points')
+                call geometry2('slab', 'y', r%y, 'Gauss points')
+                call geometry2('slab', 's', r%s, 'along the slab axis')
                 call dataset_real2(id, 'sigma_t', r%sigma_t, 'kPa', 'along the axis', st)
                 call dataset_real2(id, 'tau', r%tau, 'kPa', 'shear stress', st)
-                call dataset_real1(id, 'section_s', r%section_s, 'm', 'section centre', st)
-                call dataset_real1(id, 'thickness', r%thickness, 'm', 'section thickness', st)
+                call geometry1('slab', 'section_s', r%section_s, 'm', 'section centre')
+                call geometry1('slab', 'thickness', r%thickness, 'm', 'section thickness')
                 call dataset_real1(id, 'axial', r%axial, 'kN/m', 'N, tension +', st)
                 call dataset_real1(id, 'shear', r%shear, 'kN/m', 'V', st)
                 call dataset_real1(id, 'moment', r%moment, 'kN m/m', &
                                    'M, tension on the water side +', st)
-                call dataset_real1(id, 'section_x', r%section_x, 'm', 'section centre', st)
-                call dataset_real1(id, 'section_y', r%section_y, 'm', 'section centre', st)
+                call geometry1('slab', 'section_x', r%section_x, 'm', 'section centre')
+                call geometry1('slab', 'section_y', r%section_y, 'm', 'section centre')
                 call dataset_real1(id, 'sigma_water', r%sigma_water, 'kPa', 'N/h + 6M/h^2', st)
                 call dataset_real1(id, 'sigma_cushion', r%sigma_cushion, 'kPa', 'N/h - 6M/h^2', st)
-                call dataset_real1(id, 'tensile_strength', r%tensile_strength, 'kPa', 'f_t', st)
+                call geometry1('slab', 'tensile_strength', r%tensile_strength, 'kPa', 'f_t')
                 call dataset_real1(id, 'crack_ratio', r%crack_ratio, '-', 'sigma_1 / f_t', st)
             end associate
             call close_group(id, st)
         end if
+    contains
+        !> What stays the same from stage to stage (the geometry, the slab's sections and
+        !> strength): a lean file stores it once and links it (cfrd_h5_links).
+        subroutine geometry1(group, name, values, units, components)
+            character(len=*), intent(in) :: group, name, units, components
+            real(dp), intent(in) :: values(:)
+            if (file%format%full) then
+                call dataset_real1(id, name, values, units, components, st)
+            else
+                call real1_once(file%kept, group//'/'//name, id, stage_path//'/'//group, name, &
+                                values, units, components, st)
+            end if
+        end subroutine geometry1
+
+        subroutine geometry2(group, name, values, components)
+            character(len=*), intent(in) :: group, name, components
+            real(dp), intent(in) :: values(:, :)
+            if (file%format%full) then
+                call dataset_real2(id, name, values, 'm', components, st)
+            else
+                call real2_once(file%kept, group//'/'//name, id, stage_path//'/'//group, name, &
+                                values, 'm', components, st)
+            end if
+        end subroutine geometry2
     end subroutine write_interface_stage
 
 end module cfrd_hdf5
