@@ -379,20 +379,12 @@ contains
             case ('--float32')
                 options%format%single = .true.
             case ('--results')
-                if (i < n) then
-                    i = i + 1
-                    call get_command_argument(i, arg, length)
-                end if
-                select case (trim(arg))
-                case ('lean')
-                    options%format%full = .false.
-                case ('full')
-                    options%format%full = .true.
-                case default
-                    call fatal_error(error, 'option --results needs lean or full', &
-                                     usage_error)
+                call next_word(i, n, arg)
+                if (trim(arg) /= 'lean' .and. trim(arg) /= 'full') then
+                    call fatal_error(error, 'option --results needs lean or full', usage_error)
                     return
-                end select
+                end if
+                options%format%full = trim(arg) == 'full'
             case ('--compress')
                 call next_number(i, n, 0, 9, options%format%deflate, error, &
                                  'option --compress needs a level from 0 (none) to 9')
@@ -402,10 +394,7 @@ contains
                                  'option --threads needs a number of threads from 1 to 1024')
                 if (allocated(error)) return
             case ('--linear-solver')
-                if (i < n) then
-                    i = i + 1
-                    call get_command_argument(i, arg, length)
-                end if
+                call next_word(i, n, arg)
                 select case (trim(arg))
                 case ('auto')
                     options%linear_solver = linear_solver_auto
@@ -509,6 +498,19 @@ contains
 
     !> The option's value: argument i + 1 (i moves past it), digits only, from lowest to
     !> highest; otherwise a usage error with `message`.
+    !> The argument after option i (i advanced to it); `arg` unchanged (the option) when
+    !> the option is the last argument.
+    subroutine next_word(i, n, arg)
+        integer, intent(inout) :: i
+        integer, intent(in) :: n
+        character(len=*), intent(inout) :: arg
+        integer :: length
+        if (i < n) then
+            i = i + 1
+            call get_command_argument(i, arg, length)
+        end if
+    end subroutine next_word
+
     subroutine next_number(i, n, lowest, highest, value, error, message)
         integer, intent(inout) :: i
         integer, intent(in) :: n, lowest, highest

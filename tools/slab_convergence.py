@@ -44,7 +44,7 @@ def slab_stresses(path, stage=None, base=False):
         ends = xy[nodes[np.abs(xy[nodes, 1] - xy[nodes, 1].min()) < 1e-6]] if base else toe[None]
         active = g["active"][...].astype(bool)[element]
         centre = xy[conn[element[active]]].mean(axis=1)
-        sigma1 = field(h5, g, "principal")[element[active], 0]
+        sigma1 = field(g, "principal")[element[active], 0]
         placed = (r["axial"][...] != 0.0) | (r["moment"][...] != 0.0)
         sx, sy = r["section_x"][...][placed], r["section_y"][...][placed]
         water, cushion = r["sigma_water"][...][placed], r["sigma_cushion"][...][placed]

@@ -4,7 +4,7 @@
 !> reads the values through either name without knowing; the file keeps the data once.
 !> Used for what does not change from stage to stage (the slab's and the interfaces'
 !> geometry; the Gauss-point fields, stress levels and reactions at a RESET stage, which
-!> changes no stress) and for displacement_total where it equals displacement (no RESET yet).
+!> changes no stress).
 module cfrd_h5_links
     use, intrinsic :: iso_fortran_env, only: int64
     use hdf5, only: hid_t, h5lcreate_hard_f
@@ -13,7 +13,7 @@ module cfrd_h5_links
     implicit none
     private
 
-    public :: kept_t, real1_once, real2_once, real3_once, link_same
+    public :: kept_t, real1_once, real2_once, real3_once
 
     !> The last values written under one key (such as 'slab/x') and where they are.
     type :: kept_t
@@ -33,19 +33,24 @@ contains
                                        transfer(b, 0_int64, size(b)))
     end function same_bits
 
-    !> The entry of `kept` for `key`, appended when there is none.
-    function kept_index(kept, key) result(k)
+    !> The index of the entry of `kept` for `key` (default `name`), appended when there is
+    !> none.
+    function kept_index(kept, name, key) result(k)
         type(kept_t), allocatable, intent(inout) :: kept(:)
-        character(len=*), intent(in) :: key
+        character(len=*), intent(in) :: name
+        character(len=*), intent(in), optional :: key
         integer :: k
         type(kept_t), allocatable :: grown(:)
+        character(len=:), allocatable :: id
+        id = name
+        if (present(key)) id = key
         if (.not. allocated(kept)) allocate (kept(0))
         do k = 1, size(kept)
-            if (kept(k)%key == key) return
+            if (kept(k)%key == id) return
         end do
         allocate (grown(size(kept) + 1))
         grown(1:size(kept)) = kept
-        grown(size(grown))%key = key
+        grown(size(grown))%key = id
         call move_alloc(grown, kept)
         k = size(kept)
     end function kept_index
@@ -77,65 +82,66 @@ contains
         end if
     end subroutine try_link
 
-    !> A (n,) dataset stored once while its values stay the same (module comment).
-    subroutine real1_once(kept, key, loc, group_path, name, values, units, components, st)
+    !> A (n,) dataset `name` of group `loc` (absolute path `group_path`), stored once while
+    !> its values stay the same (module comment) when `link` (a lean file), else written.
+    !> `key` (default `name`) names it among the kept datasets.
+    subroutine real1_once(kept, link, loc, group_path, name, values, units, components, st, &
+                          key)
         type(kept_t), allocatable, intent(inout) :: kept(:)
-        character(len=*), intent(in) :: key, group_path, name, units, components
+        logical, intent(in) :: link
+        character(len=*), intent(in) :: group_path, name, units, components
         integer(hid_t), intent(in) :: loc
         real(dp), intent(in) :: values(:)
         type(h5_state_t), intent(inout) :: st
-        integer :: k
+        character(len=*), intent(in), optional :: key
         logical :: done
-        k = kept_index(kept, key)
-        call try_link(kept(k), loc, group_path, name, values, [size(values), 1, 1], st, done)
+        integer :: k
+        done = .false.
+        if (link) then
+            k = kept_index(kept, name, key)    ! (it may grow `kept`: first, then kept(k))
+            call try_link(kept(k), loc, group_path, name, values, [size(values), 1, 1], st, &
+                          done)
+        end if
         if (.not. done) call dataset_real1(loc, name, values, units, components, st)
     end subroutine real1_once
 
-    !> A (m, n) dataset stored once while its values stay the same (module comment).
-    subroutine real2_once(kept, key, loc, group_path, name, values, units, components, st)
+    !> The same for a (m, n) dataset.
+    subroutine real2_once(kept, link, loc, group_path, name, values, units, components, st, &
+                          key)
         type(kept_t), allocatable, intent(inout) :: kept(:)
-        character(len=*), intent(in) :: key, group_path, name, units, components
+        logical, intent(in) :: link
+        character(len=*), intent(in) :: group_path, name, units, components
         integer(hid_t), intent(in) :: loc
         real(dp), intent(in) :: values(:, :)
         type(h5_state_t), intent(inout) :: st
-        integer :: k
+        character(len=*), intent(in), optional :: key
         logical :: done
-        k = kept_index(kept, key)
-        call try_link(kept(k), loc, group_path, name, pack(values, .true.), &
-                      [shape(values), 1], st, done)
+        integer :: k
+        done = .false.
+        if (link) then
+            k = kept_index(kept, name, key)
+            call try_link(kept(k), loc, group_path, name, pack(values, .true.), &
+                          [shape(values), 1], st, done)
+        end if
         if (.not. done) call dataset_real2(loc, name, values, units, components, st)
     end subroutine real2_once
 
-    !> A (l, m, n) dataset stored once while its values stay the same (module comment).
-    subroutine real3_once(kept, key, loc, group_path, name, values, units, components, st)
+    !> The same for a (l, m, n) dataset.
+    subroutine real3_once(kept, link, loc, group_path, name, values, units, components, st)
         type(kept_t), allocatable, intent(inout) :: kept(:)
-        character(len=*), intent(in) :: key, group_path, name, units, components
+        logical, intent(in) :: link
+        character(len=*), intent(in) :: group_path, name, units, components
         integer(hid_t), intent(in) :: loc
         real(dp), intent(in) :: values(:, :, :)
         type(h5_state_t), intent(inout) :: st
-        integer :: k
         logical :: done
-        k = kept_index(kept, key)
-        call try_link(kept(k), loc, group_path, name, pack(values, .true.), shape(values), &
-                      st, done)
+        integer :: k
+        done = .false.
+        if (link) then
+            k = kept_index(kept, name)
+            call try_link(kept(k), loc, group_path, name, pack(values, .true.), &
+                          shape(values), st, done)
+        end if
         if (.not. done) call dataset_real3(loc, name, values, units, components, st)
     end subroutine real3_once
-
-    !> `name` as a hard link to the dataset `target` of the same group `loc` when `values`
-    !> are `target_values` to the bit (`linked`); else the caller writes it.
-    subroutine link_same(loc, target, name, target_values, values, st, linked)
-        integer(hid_t), intent(in) :: loc
-        character(len=*), intent(in) :: target, name
-        real(dp), intent(in) :: target_values(:, :), values(:, :)
-        type(h5_state_t), intent(inout) :: st
-        logical, intent(out) :: linked
-        integer :: hdferr
-        linked = .false.
-        if (.not. st%ok) return
-        if (any(shape(values) /= shape(target_values))) return
-        linked = same_bits(pack(target_values, .true.), pack(values, .true.))
-        if (.not. linked) return
-        call h5lcreate_hard_f(loc, target, loc, name, hdferr)
-        if (hdferr < 0) call fail(st, 'link '//name//' to '//target)
-    end subroutine link_same
 end module cfrd_h5_links

@@ -21,13 +21,13 @@ module cfrd_hdf5
     use cfrd_clock, only: iso_timestamp
     use cfrd_error, only: error_t, fatal_error, io_error
     use cfrd_version, only: cfrd_version_string
-    use cfrd_model, only: model_t, stage_kind_name, dry_level, law_name
+    use cfrd_model, only: model_t, stage_kind_name, dry_level, law_name, stage_reset
     use cfrd_results, only: results_t, stage_result_t
     use cfrd_interface_io, only: has_interfaces, has_slab, has_contact
     use cfrd_effects, only: effects_text
     use cfrd_run_identity, only: run_identity_t
     use cfrd_h5_state, only: write_stage_state
-    use cfrd_h5_links, only: kept_t, real1_once, real2_once, real3_once, link_same
+    use cfrd_h5_links, only: kept_t, real1_once, real2_once, real3_once
     implicit none
     private
 
@@ -49,9 +49,9 @@ module cfrd_hdf5
         !> the deck and every attribute in double
         logical :: single = .false.
         !> cfrd --results full: also what is derived or stored twice (stress_centroid,
-        !> principal, displacement_xyz, displacement_total_xyz; displacement_total and the
-        !> constant geometry written out at every stage, not linked): the layout before
-        !> issue 21. Default (lean): those are left out or linked (docs/results.md)
+        !> principal, displacement_total, displacement_xyz, displacement_total_xyz; what
+        !> repeats written out at every stage, not linked): the layout before issue 21.
+        !> Default (lean): those are left out or linked (docs/results.md)
         logical :: full = .false.
     end type results_format_t
 
@@ -71,15 +71,17 @@ module cfrd_hdf5
 
 contains
 
-    !> Write the results of a run held in memory to `path` (replacing it), complete.
-    subroutine write_results_h5(path, model, results, error)
+    !> Write the results of a run held in memory to `path` (replacing it), complete;
+    !> `format` as for open_results_h5.
+    subroutine write_results_h5(path, model, results, error, format)
         character(len=*), intent(in) :: path
         type(model_t), intent(in) :: model
         type(results_t), intent(in) :: results
         type(error_t), allocatable, intent(out) :: error
+        type(results_format_t), intent(in), optional :: format
         type(results_file_t) :: file
         integer :: s
-        call open_results_h5(file, path, model, error)
+        call open_results_h5(file, path, model, error, format=format)
         do s = 1, size(results%stages)
             if (allocated(error)) exit
             call write_stage_h5(file, s, results%stages(s), error)
@@ -218,7 +220,8 @@ contains
         integer(hid_t) :: stage_id, solver_id
         character(len=16) :: stage_name
         real(dp), allocatable :: u3(:, :)
-        logical :: linked
+        logical :: lean
+        character(len=:), allocatable :: path
 
         if (file%stages_id < 0) then
             call fatal_error(error, 'the results file is not open', io_error)
@@ -227,6 +230,8 @@ contains
         write (stage_name, '(a,i4.4)') 'stage_', number
         st%deflate = file%format%deflate
         st%single = file%format%single
+        lean = .not. file%format%full
+        path = '/stages/'//trim(stage_name)
         call open_group(file%stages_id, trim(stage_name), stage_id, st)
         call attr_text(stage_id, 'name', stage%name, st)
         call attr_text(stage_id, 'kind', stage_kind_name(stage%kind), st)
@@ -250,16 +255,20 @@ contains
         call attr_text(stage_id, 'attribute_units', 'water_level m; max_residual -; '// &
                        'wall_time s; applied_load, reaction_sum kN/m (x, y)', st)
         call dataset_int1(stage_id, 'active', merge(1, 0, stage%active), st)
-        call field1('stress_level', stage%stress_level, '-', &
-                    'largest Gauss-point stress level of the element')
-        call field2('displacement', stage%displacement, 'm', 'ux, uy')
-        ! lean: before the first RESET displacement_total is displacement, bit for bit: a
-        ! second name of the same dataset
-        linked = .false.
-        if (.not. file%format%full) call link_same(stage_id, 'displacement', &
-            'displacement_total', stage%displacement, stage%displacement_total, st, linked)
-        if (.not. linked) call dataset_real2(stage_id, 'displacement_total', &
-            stage%displacement_total, 'm', 'ux, uy since placement (RESETs added back)', st)
+        call real1_once(file%kept, lean, stage_id, path, 'stress_level', stage%stress_level, &
+                        '-', 'largest Gauss-point stress level of the element', st)
+        call real2_once(file%kept, lean, stage_id, path, 'displacement', stage%displacement, &
+                        'm', 'ux, uy', st)
+        if (file%format%full) then
+            call dataset_real2(stage_id, 'displacement_total', stage%displacement_total, 'm', &
+                               'ux, uy since placement (RESETs added back)', st)
+        else if (stage%kind == stage_reset .and. allocated(stage%carry%u_before_reset)) then
+            ! lean: displacement_total = u_before_reset + displacement, computed by the
+            ! readers (cfrdtools.results.field, the XDMF file) from this copy of the
+            ! RESET's state/reals part (a RESET stage's; a few per deck)
+            call dataset_real2(stage_id, 'u_before_reset', stage%carry%u_before_reset, 'm', &
+                               'ux, uy zeroed by the RESETs up to this stage', st)
+        end if
         if (file%format%full) then
             ! Three-component copies for XDMF (ParaView's vectors have three components);
             ! a lean file's XDMF pads the two-component datasets itself (cfrd_xdmf).
@@ -272,9 +281,10 @@ contains
                                'ux, uy, 0 (displacement_total padded with z = 0 for XDMF)', st)
             deallocate (u3)
         end if
-        call field2('reaction', stage%reaction, 'kN/m', 'rx, ry')
-        call field3('stress_gauss', stage%stress_gauss, 'kPa', &
-                    'xx, yy, zz, xy')
+        call real2_once(file%kept, lean, stage_id, path, 'reaction', stage%reaction, 'kN/m', &
+                        'rx, ry', st)
+        call real3_once(file%kept, lean, stage_id, path, 'stress_gauss', stage%stress_gauss, &
+                        'kPa', 'xx, yy, zz, xy', st)
         ! Derived from stress_gauss: tools/cfrdtools/results.py recomputes them bit for bit
         ! (tools/check_results_lean.py); written with --results full.
         if (file%format%full) then
@@ -284,23 +294,26 @@ contains
                                'sigma1, sigma3, angle of sigma1 from x', st)
         end if
         if (allocated(stage%strain_gauss)) &
-            call field3('strain_gauss', stage%strain_gauss, '-, m', &
-                        'xx, yy, zz, xy since placement (joints: du_n, du_s in m)')
+            call real3_once(file%kept, lean, stage_id, path, 'strain_gauss', &
+                            stage%strain_gauss, '-, m', &
+                            'xx, yy, zz, xy since placement (joints: du_n, du_s in m)', st)
         if (allocated(stage%history_gauss)) &
-            call field3('history_gauss', stage%history_gauss, '-', &
-                        'past maximum of the E-B stress-state function SS = SL '// &
-                        '(sigma3/pa)^(1/4), past maximum of the stress level SL '// &
-                        '(zero for other laws)')
+            call real3_once(file%kept, lean, stage_id, path, 'history_gauss', &
+                            stage%history_gauss, '-', &
+                            'past maximum of the E-B stress-state function SS = SL '// &
+                            '(sigma3/pa)^(1/4), past maximum of the stress level SL '// &
+                            '(zero for other laws)', st)
         if (allocated(stage%creep_gauss)) &
-            call field3('creep_gauss', stage%creep_gauss, '-', &
-                        'volumetric and generalised shear creep strain reached '// &
-                        '(compression positive; zero where the material does not '// &
-                        'creep)')
+            call real3_once(file%kept, lean, stage_id, path, 'creep_gauss', stage%creep_gauss, &
+                            '-', 'volumetric and generalised shear creep strain reached '// &
+                            '(compression positive; zero where the material does not '// &
+                            'creep)', st)
         if (allocated(stage%wetting_gauss)) &
-            call field3('wetting_gauss', stage%wetting_gauss, '-', &
-                        'volumetric and generalised shear wetting strain reached '// &
-                        '(compression positive; zero where nothing was wetted)')
-        call write_interface_stage(stage_id, '/stages/'//trim(stage_name), file, stage, st)
+            call real3_once(file%kept, lean, stage_id, path, 'wetting_gauss', &
+                            stage%wetting_gauss, '-', &
+                            'volumetric and generalised shear wetting strain reached '// &
+                            '(compression positive; zero where nothing was wetted)', st)
+        call write_interface_stage(stage_id, path, file, stage, st)
         call write_pjoint_h5(stage_id, stage, st)
         ! what a restart from this stage needs (docs/results.md, "Restart")
         if (allocated(stage%carry%f_ext)) call write_stage_state(stage_id, stage, st, &
@@ -339,41 +352,6 @@ contains
         if (.not. st%ok) call fatal_error(error, 'cannot write the results file '// &
                                           file%path//': HDF5 failed at '//st%failed// &
                                           ' of '//trim(stage_name), io_error)
-    contains
-        !> A stage field: a lean file links it to the last stage's when its values are the
-        !> same bits (a RESET stage changes no stress; cfrd_h5_links), else writes it.
-        subroutine field1(name, values, units, components)
-            character(len=*), intent(in) :: name, units, components
-            real(dp), intent(in) :: values(:)
-            if (file%format%full) then
-                call dataset_real1(stage_id, name, values, units, components, st)
-            else
-                call real1_once(file%kept, name, stage_id, '/stages/'//trim(stage_name), name, &
-                                values, units, components, st)
-            end if
-        end subroutine field1
-
-        subroutine field2(name, values, units, components)
-            character(len=*), intent(in) :: name, units, components
-            real(dp), intent(in) :: values(:, :)
-            if (file%format%full) then
-                call dataset_real2(stage_id, name, values, units, components, st)
-            else
-                call real2_once(file%kept, name, stage_id, '/stages/'//trim(stage_name), name, &
-                                values, units, components, st)
-            end if
-        end subroutine field2
-
-        subroutine field3(name, values, units, components)
-            character(len=*), intent(in) :: name, units, components
-            real(dp), intent(in) :: values(:, :, :)
-            if (file%format%full) then
-                call dataset_real3(stage_id, name, values, units, components, st)
-            else
-                call real3_once(file%kept, name, stage_id, '/stages/'//trim(stage_name), name, &
-                                values, units, components, st)
-            end if
-        end subroutine field3
     end subroutine write_stage_h5
 
     !> Close the file: with `complete`, set the root attribute `complete` to 1; `wall_time`
@@ -432,12 +410,13 @@ contains
         type(h5_state_t), intent(inout) :: st
         integer(hid_t) :: id
         integer :: n
+        logical :: lean
+        lean = .not. file%format%full
         if (file%interfaces) then
             call open_group(stage_id, 'interface', id, st)
             associate (r => stage%interface)
-                call geometry2('interface', 'x', r%x, 'station 1, 2 of each interface element')
-                call geometry2('interface', 'y', r%y, 'station 1, 2')
-                call geometry2('interface', 's', r%s, 'distance along the line')
+                call geometry('interface', r%x, r%y, r%s, 'station 1, 2 of each interface '// &
+                              'element', 'station 1, 2', 'distance along the line')
                 call dataset_real2(id, 'sigma_n', r%sigma_n, 'kPa', 'normal stress, tension +', st)
                 call dataset_real2(id, 'tau', r%tau, 'kPa', 'shear stress along t', st)
                 call dataset_real2(id, 'du_n', r%du_n, 'm', 'relative normal displacement, opening +', &
@@ -464,9 +443,12 @@ contains
                 call dataset_int1(id, 'group', r%group, st)
                 call dataset_int1(id, 'placed', merge(1, 0, r%placed), st)
                 call dataset_int1(id, 'status', r%status, st)
-                call geometry1('contact', 'x', r%x, 'm', 'slave node, as meshed')
-                call geometry1('contact', 'y', r%y, 'm', 'slave node, as meshed')
-                call geometry1('contact', 's', r%s, 'm', 'along the slave surface')
+                call real1_once(file%kept, lean, id, stage_path//'/contact', 'x', r%x, 'm', &
+                                'slave node, as meshed', st, key='contact/x')
+                call real1_once(file%kept, lean, id, stage_path//'/contact', 'y', r%y, 'm', &
+                                'slave node, as meshed', st, key='contact/y')
+                call real1_once(file%kept, lean, id, stage_path//'/contact', 's', r%s, 'm', &
+                                'along the slave surface', st, key='contact/s')
                 call dataset_real1(id, 'gap', r%gap, 'm', 'normal gap, open +', st)
                 call dataset_real1(id, 'slip', r%slip, 'm', 'accumulated slip along t', st)
                 call dataset_real1(id, 'sigma_n', r%sigma_n, 'kPa', &
@@ -491,50 +473,42 @@ contains
             call open_group(stage_id, 'slab', id, st)
             associate (r => stage%slab)
                 call dataset_int1(id, 'element', r%element, st)
-                call geometry2('slab', 'x', r%x, 'Gauss points')
-                call geometry2('slab', 'y', r%y, 'Gauss points')
-                call geometry2('slab', 's', r%s, 'along the slab axis')
+                call geometry('slab', r%x, r%y, r%s, 'Gauss points', 'Gauss points', &
+                              'along the slab axis')
                 call dataset_real2(id, 'sigma_t', r%sigma_t, 'kPa', 'along the axis', st)
                 call dataset_real2(id, 'tau', r%tau, 'kPa', 'shear stress', st)
-                call geometry1('slab', 'section_s', r%section_s, 'm', 'section centre')
-                call geometry1('slab', 'thickness', r%thickness, 'm', 'section thickness')
+                call real1_once(file%kept, lean, id, stage_path//'/slab', 'section_s', &
+                                r%section_s, 'm', 'section centre', st, key='slab/section_s')
+                call real1_once(file%kept, lean, id, stage_path//'/slab', 'thickness', &
+                                r%thickness, 'm', 'section thickness', st, key='slab/thickness')
                 call dataset_real1(id, 'axial', r%axial, 'kN/m', 'N, tension +', st)
                 call dataset_real1(id, 'shear', r%shear, 'kN/m', 'V', st)
                 call dataset_real1(id, 'moment', r%moment, 'kN m/m', &
                                    'M, tension on the water side +', st)
-                call geometry1('slab', 'section_x', r%section_x, 'm', 'section centre')
-                call geometry1('slab', 'section_y', r%section_y, 'm', 'section centre')
+                call real1_once(file%kept, lean, id, stage_path//'/slab', 'section_x', &
+                                r%section_x, 'm', 'section centre', st, key='slab/section_x')
+                call real1_once(file%kept, lean, id, stage_path//'/slab', 'section_y', &
+                                r%section_y, 'm', 'section centre', st, key='slab/section_y')
                 call dataset_real1(id, 'sigma_water', r%sigma_water, 'kPa', 'N/h + 6M/h^2', st)
                 call dataset_real1(id, 'sigma_cushion', r%sigma_cushion, 'kPa', 'N/h - 6M/h^2', st)
-                call geometry1('slab', 'tensile_strength', r%tensile_strength, 'kPa', 'f_t')
+                call real1_once(file%kept, lean, id, stage_path//'/slab', 'tensile_strength', &
+                                r%tensile_strength, 'kPa', 'f_t', st, key='slab/tensile_strength')
                 call dataset_real1(id, 'crack_ratio', r%crack_ratio, '-', 'sigma_1 / f_t', st)
             end associate
             call close_group(id, st)
         end if
     contains
-        !> What stays the same from stage to stage (the geometry, the slab's sections and
-        !> strength): a lean file stores it once and links it (cfrd_h5_links).
-        subroutine geometry1(group, name, values, units, components)
-            character(len=*), intent(in) :: group, name, units, components
-            real(dp), intent(in) :: values(:)
-            if (file%format%full) then
-                call dataset_real1(id, name, values, units, components, st)
-            else
-                call real1_once(file%kept, group//'/'//name, id, stage_path//'/'//group, name, &
-                                values, units, components, st)
-            end if
-        end subroutine geometry1
-
-        subroutine geometry2(group, name, values, components)
-            character(len=*), intent(in) :: group, name, components
-            real(dp), intent(in) :: values(:, :)
-            if (file%format%full) then
-                call dataset_real2(id, name, values, 'm', components, st)
-            else
-                call real2_once(file%kept, group//'/'//name, id, stage_path//'/'//group, name, &
-                                values, 'm', components, st)
-            end if
-        end subroutine geometry2
+        !> The stations' or Gauss points' x, y and s of `group`, stored once in a lean file.
+        subroutine geometry(group, x, y, s, where_x, where_y, along)
+            character(len=*), intent(in) :: group, where_x, where_y, along
+            real(dp), intent(in) :: x(:, :), y(:, :), s(:, :)
+            call real2_once(file%kept, lean, id, stage_path//'/'//group, 'x', x, 'm', where_x, &
+                            st, key=group//'/x')
+            call real2_once(file%kept, lean, id, stage_path//'/'//group, 'y', y, 'm', where_y, &
+                            st, key=group//'/y')
+            call real2_once(file%kept, lean, id, stage_path//'/'//group, 's', s, 'm', along, &
+                            st, key=group//'/s')
+        end subroutine geometry
     end subroutine write_interface_stage
 
 end module cfrd_hdf5

@@ -124,7 +124,7 @@ class Run:
         with h5py.File(path, "r") as f:
             f.visititems(self._finite)
             for g in results.stages(f):
-                stage = {k: results.field(f, g, k) for k in (
+                stage = {k: results.field(g, k) for k in (
                     "displacement", "reaction", "stress_level", "principal", "stress_gauss")}
                 stage.update({"c_" + k: g["contact"][k][...] for k in g.get("contact", {})})
                 stage.update(cutbacks=int(g.attrs["cutbacks"]), applied=g.attrs["applied_load"],

@@ -92,14 +92,17 @@ def openings(path):
 
 
 # --- Derived fields (issue 21): a lean results file (the default; cfrd --results) leaves
-# out stress_centroid and principal, which cfrd computes from stress_gauss, and the
-# z-padded copies displacement_xyz / displacement_total_xyz. field() gives them back bit for
-# bit: the same operations in the same order as cfrd's stage driver (record) and
+# out what cfrd derives from other datasets: stress_centroid (the mean of the Gauss-point
+# stresses), principal (from it), displacement_total (the displacements zeroed by the RESETs,
+# kept in each RESET stage's state/reals, plus displacement) and the z-padded copies
+# displacement_xyz / displacement_total_xyz. field() gives them back bit for bit: the same
+# operations in the same order as cfrd's stage driver (record) and
 # src/materials/cfrd_principal.f90, hypot and atan2 from the C library cfrd calls (numpy's
 # own may be vectorised differently). tools/check_results_lean.py compares them with a file
 # written with --results full at every stage.
 
-DERIVED = ("stress_centroid", "principal", "displacement_xyz", "displacement_total_xyz")
+DERIVED = ("stress_centroid", "principal", "displacement_total", "displacement_xyz",
+           "displacement_total_xyz")
 # element kinds (src/model/cfrd_model.f90): quadrilaterals have 4 Gauss points and 4
 # stress components, Goodman joints 2 and 2 (no principal stresses)
 QUAD_KINDS = (1, 4)
@@ -122,22 +125,15 @@ def _libm():
     return _LIBM
 
 
-def _stored_precision(group, values, name="stress_gauss"):
-    """values (computed in double) as the file stores them (float32 after --float32)."""
-    return values.astype(group[name].dtype)
-
-
-def _double_stress(group):
-    """The stage's Gauss-point stresses in double: state/stress_gauss of a --float32 file,
-    else stress_gauss."""
-    return group["state/stress_gauss"][...] if "state/stress_gauss" in group \
-        else group["stress_gauss"][...]
+def _double(group, name):
+    """The stage's dataset `name` in double: its copy in state/ after --float32, else it."""
+    return group[f"state/{name}"][...] if f"state/{name}" in group else group[name][...]
 
 
 def centroid_stress(group, kind):
     """(nelem, 4): the mean of the element's Gauss-point stresses, summed from zero in
     Gauss-point order and divided by their number (cfrd's sum(...)/ng)."""
-    sg = _double_stress(group)
+    sg = _double(group, "stress_gauss")
     kind = np.asarray(kind)
     unknown = set(np.unique(kind)) - set(QUAD_KINDS) - set(JOINT_KINDS)
     if unknown:
@@ -168,19 +164,37 @@ def principal_stresses(c, kind):
     return p
 
 
-def field(f, group, name):
-    """Dataset `name` of stage group `group` of the open file `f` as a numpy array: read
-    when the file has it, else (a lean file) computed bit for bit from what it has, for
-    the DERIVED names."""
+def u_before_reset(group):
+    """(nnode, 2): the displacements zeroed by the RESETs up to this stage, as cfrd's
+    restart reads them (cfrd_h5_state: read_u_before_reset): from the packed state of the
+    last stage up to it whose state/ints(7) says state/reals holds them (a RESET stage),
+    zero before the first."""
+    stages = group.parent
+    number = int(group.name.rsplit("_", 1)[1])
+    for k in range(number, 0, -1):
+        state = stages[f"stage_{k:04d}/state"]
+        ints = state["ints"][...]
+        if ints[6] == 1:
+            nnode = int(ints[0])
+            return state["reals"][2 * nnode:4 * nnode].reshape(nnode, 2)
+    return np.zeros((int(group["state/ints"][0]), 2))
+
+
+def field(group, name):
+    """Dataset `name` of stage group `group` as a numpy array: read when the file has it,
+    else (a lean file) computed bit for bit from what it has, for the DERIVED names."""
     if name in group:
         return group[name][...]
     if name not in DERIVED:
         raise KeyError(f"{group.name}/{name}: not in the file and not derived")
+    stored = group["displacement"].dtype
     if name.endswith("_xyz"):
-        u = group[name[:-4]][...]
+        u = field(group, name[:-4])
         return np.concatenate([u, np.zeros((u.shape[0], 1), u.dtype)], axis=1)
-    kind = f["mesh/kind"][...]
+    if name == "displacement_total":      # cfrd: u_before_reset + u
+        return (u_before_reset(group) + _double(group, "displacement")).astype(stored)
+    kind = group.file["mesh/kind"][...]
     c = centroid_stress(group, kind)
     if name == "stress_centroid":
-        return _stored_precision(group, c)
-    return _stored_precision(group, principal_stresses(c, kind))
+        return c.astype(stored)
+    return principal_stresses(c, kind).astype(stored)
