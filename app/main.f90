@@ -33,7 +33,7 @@ program cfrd_main
         logical :: check_only = .false.
         logical :: quiet = .false.
         logical :: legacy_listing = .false.   !! also DECK.lst, the legacy-style tables
-        type(results_format_t) :: format      !! --compress, --float32
+        type(results_format_t) :: format      !! --compress, --float32, --results
         character(len=:), allocatable :: out_dir
         !> with --check: the folders and results files (.h5) whose result sets to check
         character(len=:), allocatable :: result_paths(:)
@@ -328,7 +328,8 @@ contains
         integer, intent(in) :: number
         copies_stage = number <= current%source%from_stage .and. &
                        current%source%deflate == options%format%deflate .and. &
-                       (current%source%single .eqv. options%format%single)
+                       (current%source%single .eqv. options%format%single) .and. &
+                       (current%source%full .eqv. options%format%full)
     end function copies_stage
 
     !> cfrd --restart: stage `number` as the results file continued from stored it.
@@ -377,6 +378,13 @@ contains
                 options%legacy_listing = .true.
             case ('--float32')
                 options%format%single = .true.
+            case ('--results')
+                call next_word(i, n, arg)
+                if (trim(arg) /= 'lean' .and. trim(arg) /= 'full') then
+                    call fatal_error(error, 'option --results needs lean or full', usage_error)
+                    return
+                end if
+                options%format%full = trim(arg) == 'full'
             case ('--compress')
                 call next_number(i, n, 0, 9, options%format%deflate, error, &
                                  'option --compress needs a level from 0 (none) to 9')
@@ -386,10 +394,7 @@ contains
                                  'option --threads needs a number of threads from 1 to 1024')
                 if (allocated(error)) return
             case ('--linear-solver')
-                if (i < n) then
-                    i = i + 1
-                    call get_command_argument(i, arg, length)
-                end if
+                call next_word(i, n, arg)
                 select case (trim(arg))
                 case ('auto')
                     options%linear_solver = linear_solver_auto
@@ -493,6 +498,19 @@ contains
 
     !> The option's value: argument i + 1 (i moves past it), digits only, from lowest to
     !> highest; otherwise a usage error with `message`.
+    !> The argument after option i (i advanced to it); `arg` unchanged (the option) when
+    !> the option is the last argument.
+    subroutine next_word(i, n, arg)
+        integer, intent(inout) :: i
+        integer, intent(in) :: n
+        character(len=*), intent(inout) :: arg
+        integer :: length
+        if (i < n) then
+            i = i + 1
+            call get_command_argument(i, arg, length)
+        end if
+    end subroutine next_word
+
     subroutine next_number(i, n, lowest, highest, value, error, message)
         integer, intent(inout) :: i
         integer, intent(in) :: n, lowest, highest
@@ -570,6 +588,12 @@ contains
             '                (with the shuffle filter; lossless, about half the size)', &
             '  --float32     store the stages'' fields in single precision (7 digits):', &
             '                half the size again; the mesh and attributes stay double', &
+            '  --results lean|full', &
+            '                lean (default): what is derived from other datasets', &
+            '                (stress_centroid, principal) or stored twice (the', &
+            '                z-padded displacement copies) is not written, and what', &
+            '                repeats is linked (tools/cfrdtools recomputes the rest bit', &
+            '                for bit); full: also those, as before (docs/results.md)', &
             '  --threads N   OpenMP threads of the element loops (assembly, stress', &
             '                update); default OMP_NUM_THREADS, else 1. The results are', &
             '                the same bits for any N; the factorisation stays on one', &

@@ -4,14 +4,14 @@
 module test_io_results
     use hdf5, only: hid_t, hsize_t, h5open_f, h5close_f, h5fopen_f, h5fclose_f, h5dopen_f, &
                     h5dread_f, h5dclose_f, h5aopen_by_name_f, h5aread_f, h5aclose_f, &
-                    H5F_ACC_RDONLY_F, H5T_NATIVE_DOUBLE, H5T_NATIVE_INTEGER
+                    h5lexists_f, H5F_ACC_RDONLY_F, H5T_NATIVE_DOUBLE, H5T_NATIVE_INTEGER
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, io_error
     use cfrd_testing, only: unittest_t, new_unittest, check, fail
     use cfrd_model, only: model_t, gauge_t
     use cfrd_results, only: results_t
     use cfrd_hdf5, only: write_results_h5, results_file_t, open_results_h5, write_stage_h5, &
-                         close_results_h5
+                         close_results_h5, results_format_t
     use cfrd_xdmf, only: xml_escape
     use cfrd_listing, only: write_listing, write_gauge_csv
     use cfrd_stage_summary, only: summarise_run
@@ -30,6 +30,7 @@ contains
         tests = [ &
                 new_unittest('hdf5_round_trip', test_hdf5_round_trip), &
                 new_unittest('hdf5_streamed_incomplete', test_hdf5_incomplete), &
+                new_unittest('hdf5_lean_layout', test_hdf5_lean), &
                 new_unittest('xml_escape', test_xml_escape), &
                 new_unittest('listing_tables', test_listing), &
                 new_unittest('gauge_csv', test_gauge_csv), &
@@ -135,8 +136,8 @@ contains
 
     !> A run that stops after its first of two stages: the file closed without `complete`
     !> says so (complete = 0, stages_completed = 1, stages_total = 2, the failure) and its
-    !> stage reads back bit for bit, with the history and the z-padded displacements; the
-    !> file written whole says complete = 1.
+    !> stage reads back bit for bit, with the history and (--results full) the z-padded
+    !> displacements; the file written whole says complete = 1.
     subroutine test_hdf5_incomplete(error)
         type(error_t), allocatable, intent(out) :: error
         type(model_t) :: model
@@ -148,7 +149,8 @@ contains
         call sample(model, results)
         model%stages = [model%stages(1), model%stages(1)]
         call execute_command_line('mkdir -p '//dir)
-        call open_results_h5(file, dir//'partial.h5', model, error)
+        call open_results_h5(file, dir//'partial.h5', model, error, &
+                             format=results_format_t(full=.true.))
         if (.not. allocated(error)) call write_stage_h5(file, 1, results%stages(1), error)
         if (allocated(error)) then
             call close_results_h5(file, .false.)
@@ -165,8 +167,10 @@ contains
         complete = read_int_attr(file_id, '.', 'complete')
         completed = read_int_attr(file_id, '.', 'stages_completed')
         total = read_int_attr(file_id, '.', 'stages_total')
-        call read_real3(file_id, 'stages/stage_0001/history_gauss', history)
-        call read_real2(file_id, 'stages/stage_0001/displacement_total_xyz', u3)
+        history = reshape(read_doubles(file_id, 'stages/stage_0001/history_gauss', 16), &
+                          shape(history))
+        u3 = reshape(read_doubles(file_id, 'stages/stage_0001/displacement_total_xyz', 18), &
+                     shape(u3))
         call h5fclose_f(file_id, hdferr)
         call h5close_f(hdferr)     ! the writer opens and closes the library itself
         call check(error, complete, 0, 'complete of a file closed incomplete')
@@ -202,32 +206,76 @@ contains
             call h5aclose_f(attr_id, err)
         end function read_int_attr
 
-        subroutine read_real3(loc, name, values)
-            integer(hid_t), intent(in) :: loc
-            character(len=*), intent(in) :: name
-            real(dp), intent(out) :: values(:, :, :)
-            integer(hid_t) :: dset_id
-            integer :: err
-            values = -1.0_dp
-            call h5dopen_f(loc, name, dset_id, err)
-            if (err < 0) return
-            call h5dread_f(dset_id, H5T_NATIVE_DOUBLE, values, shape(values, kind=hsize_t), err)
-            call h5dclose_f(dset_id, err)
-        end subroutine read_real3
 
-        subroutine read_real2(loc, name, values)
-            integer(hid_t), intent(in) :: loc
-            character(len=*), intent(in) :: name
-            real(dp), intent(out) :: values(:, :)
-            integer(hid_t) :: dset_id
-            integer :: err
-            values = -1.0_dp
-            call h5dopen_f(loc, name, dset_id, err)
-            if (err < 0) return
-            call h5dread_f(dset_id, H5T_NATIVE_DOUBLE, values, shape(values, kind=hsize_t), err)
-            call h5dclose_f(dset_id, err)
-        end subroutine read_real2
     end subroutine test_hdf5_incomplete
+
+    !> The lean layout (the default; docs/results.md "What is written"): two stages with
+    !> the same made-up fields. Read back through the HDF5 library: the second stage's
+    !> Gauss-point stresses are its own values (a link to the first stage's); the derived
+    !> datasets (stress_centroid, principal, displacement_total, the z-padded copies) are
+    !> absent; with --results full they are there, the centroid stresses bit for bit.
+    subroutine test_hdf5_lean(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(model_t) :: model
+        type(results_t) :: results
+        integer(hid_t) :: file_id
+        integer :: hdferr, k
+        real(dp) :: sg(4, 4, 2), centroid(4, 2)
+        logical :: there(5), full_there(5)
+        character(len=*), parameter :: derived(5) = [character(len=22) :: 'stress_centroid', &
+            'principal', 'displacement_total', 'displacement_xyz', 'displacement_total_xyz']
+        call sample(model, results)
+        model%stages = [model%stages(1), model%stages(1)]
+        results%stages = [results%stages(1), results%stages(1)]
+        call execute_command_line('mkdir -p '//dir)
+        call write_results_h5(dir//'lean.h5', model, results, error)
+        if (allocated(error)) return
+        call h5open_f(hdferr)
+        call h5fopen_f(dir//'lean.h5', H5F_ACC_RDONLY_F, file_id, hdferr)
+        sg = reshape(read_doubles(file_id, 'stages/stage_0002/stress_gauss', 32), shape(sg))
+        do k = 1, 5
+            call h5lexists_f(file_id, 'stages/stage_0002/'//trim(derived(k)), there(k), hdferr)
+        end do
+        call h5fclose_f(file_id, hdferr)
+        call h5close_f(hdferr)
+        call check(error, all(sg == results%stages(2)%stress_gauss), &
+                   'stress_gauss of stage 2 read back (linked to stage 1)')
+        if (allocated(error)) return
+        call check(error, .not. any(there), 'no derived datasets in a lean file')
+        if (allocated(error)) return
+        call write_results_h5(dir//'full.h5', model, results, error, &
+                              format=results_format_t(full=.true.))
+        if (allocated(error)) return
+        call h5open_f(hdferr)
+        call h5fopen_f(dir//'full.h5', H5F_ACC_RDONLY_F, file_id, hdferr)
+        do k = 1, 5
+            call h5lexists_f(file_id, 'stages/stage_0002/'//trim(derived(k)), full_there(k), &
+                             hdferr)
+        end do
+        centroid = reshape(read_doubles(file_id, 'stages/stage_0002/stress_centroid', 8), &
+                           [4, 2])
+        call h5fclose_f(file_id, hdferr)
+        call h5close_f(hdferr)
+        call check(error, all(full_there) .and. &
+                   all(centroid == results%stages(2)%stress_centroid), &
+                   'derived datasets in a full file')
+    end subroutine test_hdf5_lean
+
+    !> A dataset of doubles of any shape into `values` (its size, in the file's order), -1
+    !> everywhere when it cannot be read.
+    function read_doubles(loc, name, n) result(values)
+        integer(hid_t), intent(in) :: loc
+        character(len=*), intent(in) :: name
+        integer, intent(in) :: n
+        real(dp) :: values(n)
+        integer(hid_t) :: dset_id
+        integer :: err
+        values = -1.0_dp
+        call h5dopen_f(loc, name, dset_id, err)
+        if (err < 0) return
+        call h5dread_f(dset_id, H5T_NATIVE_DOUBLE, values, [int(n, hsize_t)], err)
+        call h5dclose_f(dset_id, err)
+    end function read_doubles
 
     !> XML's five special characters in a stage label or title are escaped (XML 1.0, 2.4).
     subroutine test_xml_escape(error)

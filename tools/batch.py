@@ -113,7 +113,7 @@ def key_results(path):
     with results.open_results(path) as f:
         groups, st = results.group_names(f), results.stages(f)
         for k, g in enumerate(st, start=1):
-            uy = g["displacement_total"][:, 1]
+            uy = results.field(g, "displacement_total")[:, 1]
             i = int(np.argmin(uy))
             if settlement is None or -uy[i] > settlement[0]:
                 settlement = (float(-uy[i]), i + 1, k)

@@ -95,7 +95,7 @@ def figures(h5):
     with results.open_results(h5) as f:
         st = results.stages(f)
         sv = [g["solver"].attrs for g in st]
-        u, x = st[-1]["displacement_total"][...], f["mesh/coordinates"][...]
+        u, x = results.field(st[-1], "displacement_total"), f["mesh/coordinates"][...]
         k = int(u[:, 1].argmin())
         return dict(results.summary(f, (
             "numeric_factorisations", "updates", "contact_iterations", "searches", "t_contact",
@@ -272,7 +272,8 @@ def convergence(workdir, refinements):
         if not os.path.exists(h5):
             continue
         with results.open_results(h5) as f:
-            x, u = f["mesh/coordinates"][...], results.last_stage(f)["displacement_total"][...]
+            x = f["mesh/coordinates"][...]
+            u = results.field(results.last_stage(f), "displacement_total")
             names, nodes = results.gauges(f)
             k, row = int(np.argmin(u[:, 1])), np.abs(x[:, 1] - MID_ROW) < 1e-3
             out = {"elements": f["mesh/connectivity"].shape[0], "max settlement m": -u[k, 1],

@@ -77,7 +77,8 @@ def main():
     args = parser(__doc__, cfrd=True, workdir=True).parse_args()
     work = fresh(args.workdir)
     for deck in ("inputs/column.dat", "inputs/tianshengqiao-x1.dat"):
-        proc = subprocess.run([args.cfrd, "--quiet", "--legacy-listing", "--out", work, deck],
+        proc = subprocess.run([args.cfrd, "--quiet", "--legacy-listing", "--results", "full",
+                               "--out", work, deck],
                               capture_output=True, text=True)
         if proc.returncode != 0:
             check("setup", False, f"{deck}: cfrd exit {proc.returncode}: {proc.stderr[-300:]}")

@@ -30,7 +30,7 @@ from scipy.integrate import solve_ivp
 
 from cfrdtools.checks import Checks, parser
 from cfrdtools.decks import free
-from cfrdtools.results import open_results, stages
+from cfrdtools.results import field, open_results, stages
 from cfrdtools.runner import run_text
 
 PA, NU_MAX, LEVEL_CAP = 101.325, 0.49, 0.99
@@ -143,13 +143,13 @@ def check_closed_form(cfrd, workdir, tol=5e-3):
         "&WAIT, , 10, 2004-01-01"])
     with run(cfrd, workdir, "triaxial.dat", deck) as f:
         st = stages(f)
-        t0, u0 = st[1].attrs["day"], st[1]["displacement_total"][...]
+        t0, u0 = st[1].attrs["day"], field(st[1], "displacement_total")
         lev, s3 = level(-400.0, -1000.0, 0.0)
         evf, esf = final_strains(s3, lev)
         worst = radial_err = 0.0
         for g in st[2:]:
             decay = 1.0 - math.exp(-CREEP["alpha"] * (g.attrs["day"] - t0))
-            u = g["displacement_total"][...] - u0
+            u = field(g, "displacement_total") - u0
             axial, radial = -u[2, 1], -u[1, 0]        # node 3 (1, 1), node 2 (1, 0)
             worst = max(worst, *(abs(got - want) / abs(want) for got, want in (
                 (axial, (evf / 3 + esf) * decay), (axial + 2.0 * radial, evf * decay))))
@@ -177,8 +177,8 @@ def check_order(cfrd, workdir):
                              f"&WAIT, , {n}, 2000-12-31", "END"]
         with run(cfrd, workdir, f"oedometer-{n}.dat", deck) as f:
             st = stages(f)
-            errors.append((-(st[1]["displacement_total"][2, 1] - st[0]["displacement_total"][
-                2, 1]) - ref) / ref)
+            settled = [field(g, "displacement_total")[2, 1] for g in st[:2]]
+            errors.append((-(settled[1] - settled[0]) - ref) / ref)
     orders = [math.log2(abs(errors[i] / errors[i + 1])) for i in range(len(errors) - 1)]
     check("time-step-order", 0.8 <= orders[-1] <= 1.3 and abs(errors[-1]) < 2e-3,
           f"oedometer creep settlement over one year ({ref * 1000:.4f} mm, scipy LSODA), errors "
@@ -232,8 +232,9 @@ def check_column(cfrd, workdir, tol=1e-2):
     ref, last = column_reference(), COLUMN_LAYERS - 1
     with run(cfrd, workdir, "column.dat", column_deck(32)) as f:
         st = stages(f)
-        got = [(-g["displacement_total"][2, 1],                # node 3: top of layer 1
-                -(g["displacement_total"][-2, 1] - st[last]["displacement_total"][-2, 1])
+        total = [field(g, "displacement_total") for g in st]
+        got = [(-total[k][2, 1],                                   # node 3: top of layer 1
+                -(total[k][-2, 1] - total[last][-2, 1])
                 if k >= last else 0.0) for k, g in enumerate(st)]
     worst = max(max(abs(a - c) / max(abs(c), 1e-12), abs(b - d) / abs(d) if d else 0.0)
                 for (a, b), (c, d) in zip(got, ref))
@@ -268,12 +269,12 @@ def check_contact(cfrd, workdir, tol=5e-3):
             "&WAIT, , 10, 2001-01-01", "&WAIT, , 10, 2004-01-01", "END"]
     with run(cfrd, workdir, "slab-on-block.dat", deck) as f:
         st = stages(f)
-        t0, u0 = st[1].attrs["day"], st[1]["displacement_total"][...]
+        t0, u0 = st[1].attrs["day"], field(st[1], "displacement_total")
         worst = worst_p = 0.0
         for g in st[2:]:
             want = (1.0 + nu) / (3.0 * (1.0 - nu)) * ev_final * (
                 1.0 - math.exp(-CREEP["alpha"] * (g.attrs["day"] - t0)))
-            u = g["displacement_total"][...] - u0
+            u = field(g, "displacement_total") - u0
             worst = max(worst, *(abs(-u[node, 1] - want) / want for node in (9, 10, 11)))
             if "sigma_n" in g["contact"]:                  # the slab's top nodes above
                 worst_p = max(worst_p, abs(np.mean(g["contact"]["sigma_n"][...]) + p_contact)
@@ -290,7 +291,7 @@ def check_wetting(cfrd, workdir, tol=5e-3):
         "&LOAD, , 50, , cell pressure", "&LOAD, SHEAR, 50, , deviator", "&WET, , 4, , flooded"])
     with run(cfrd, workdir, "triaxial-wet.dat", deck) as f:
         st = stages(f)
-        u = st[2]["displacement_total"][...] - st[1]["displacement_total"][...]
+        u = field(st[2], "displacement_total") - field(st[1], "displacement_total")
         stored = st[2]["wetting_gauss"][...]                  # (element, point, component)
     axial, radial = -u[2, 1], -u[1, 0]
     lev, s3 = level(-400.0, -1000.0, 0.0)
@@ -317,7 +318,7 @@ def check_wet_level(cfrd, workdir, tol=1e-9):
         st = stages(f)
         s_before, s_after = st[1]["stress_gauss"][...], st[2]["stress_gauss"][...]
         w = st[2]["wetting_gauss"][...]
-        u = st[2]["displacement_total"][...] - st[1]["displacement_total"][...]
+        u = field(st[2], "displacement_total") - field(st[1], "displacement_total")
     collapse = -u[2, 1]                                  # node 3, top of the lower layer
     upper_stress = float(np.max(np.abs(s_after[1] - s_before[1])))   # (element, point, comp)
     stretch = abs((u[4, 1] - u[2, 1]) / collapse)        # node 5 against node 3
@@ -338,7 +339,7 @@ def check_off(cfrd, workdir):
             run(cfrd, workdir, "column-bare.dat", [ln for ln in deck
                                                    if not ln.startswith("&CREEP")]) as b:
         sa, sb = stages(a), stages(b)
-        same = len(sa) == len(sb) and all(np.array_equal(x[name][...], y[name][...])
+        same = len(sa) == len(sb) and all(np.array_equal(field(x, name), field(y, name))
                                           for x, y in zip(sa, sb)
                                           for name in ("displacement_total", "stress_gauss"))
         stored = any("creep_gauss" in g for g in sa)

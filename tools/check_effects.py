@@ -144,9 +144,9 @@ def bonded(work, cfrd, joint, bonded_deck):
     pairs = np.array([(i, key0.get(tuple(np.round(xy[i], 6)), -1)) for i in used])
     err = np.inf
     if len(st) == len(st0) and np.all(pairs[:, 1] >= 0) and len(pairs) == len(xy0):
-        err = max(float(np.max(np.abs(a["displacement_total"][...][pairs[:, 0]]
-                                      - b["displacement_total"][...][pairs[:, 1]])))
-                  / float(np.max(np.abs(b["displacement_total"][...])) or 1.0)
+        err = max(float(np.max(np.abs(results.field(a, "displacement_total")[pairs[:, 0]]
+                                      - results.field(b, "displacement_total")[pairs[:, 1]])))
+                  / float(np.max(np.abs(results.field(b, "displacement_total"))) or 1.0)
                   for a, b in zip(st, st0))
     stored = "interface" in st[-1]
     check("bonded", err < 1e-9 and not stored, f"x1 joint deck with INTERFACE BONDED against "

@@ -42,7 +42,7 @@ import h5py
 import numpy as np
 
 from cfrdtools.checks import Checks, parser
-from cfrdtools.results import text
+from cfrdtools.results import field, text
 from cfrdtools.runner import tool
 
 try:
@@ -148,7 +148,7 @@ def check(h5paths, figdir, prefix="figures"):
         return f"; differ: {bad}" if bad else ""
     # Fig. 7: contoured fields at the last stage.
     used = np.unique(h5["mesh/connectivity"][...][last["active"][...] == 1]) - 1
-    u = last["displacement_total"][...]
+    u = field(last, "displacement_total")
     for name, expected in (("fig07-settlement", -u[:, 1] * 100.0), ("fig07-ux", u[:, 0] * 100.0)):
         rows = [r for rows in read_data(data / f"{name}.csv").values() for r in rows
                 if r["kind"] == "node"]
@@ -167,7 +167,7 @@ def check(h5paths, figdir, prefix="figures"):
                       (text(h5["stages"][s].attrs["date"]).replace("-", ".") for s in dated)])
     bad = []
     for name, node in zip(names, nodes):
-        ut = np.array([h5["stages"][s]["displacement_total"][node] for s in dated])
+        ut = np.array([field(h5["stages"][s], "displacement_total")[node] for s in dated])
         got = xy(series[("line", name)])
         if not (np.array_equal(got[:, 0], years) and np.array_equal(
                 got[:, 1], -ut[:, 1] * 100 if "-V" in name else ut[:, 0] * 100)):

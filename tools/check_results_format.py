@@ -3,7 +3,9 @@
 "XDMF"), read back by programs other than cfrd.
 
 The same deck run three times, with `--compress 0` (contiguous doubles, the layout before the
-filters), the default (shuffle + deflate level 1) and `--float32`, each file read with h5py:
+filters), the default (shuffle + deflate level 1) and `--float32`, each file read with h5py,
+all three with `--results full` (every dataset; a lean file, the default, against a full one:
+tools/check_results_lean.py):
 
   lossless   the default file holds the same datasets as the unfiltered one, with the same
              types and shapes, and every value equal bit for bit;
@@ -20,7 +22,8 @@ filters), the default (shuffle + deflate level 1) and `--float32`, each file rea
   size       the files' sizes against the unfiltered one (printed, not a test: the issue's
              figures are in docs/performance.md).
 
---xdmf: cfrd's DECK.xmf read with an independent XDMF reader (meshio's TimeSeriesReader, the
+--xdmf: cfrd's DECK.xmf (of a run with --results full; meshio reads no XDMF Function, which
+a lean file's XDMF uses: tools/check_results_lean.py) read with an independent XDMF reader (meshio's TimeSeriesReader, the
 reader ParaView-style time series are checked with) against the HDF5 datasets, exactly:
 
   steps   one time step per stage: as many as the deck's STAGES cards (counted here from the
@@ -111,7 +114,7 @@ def check_format(check, cfrd, workdir):
                            ("float32", ["--float32"])):
         out = os.path.join(workdir, label)
         os.makedirs(out, exist_ok=True)
-        done = run(cfrd, DECK, "--out", out, *options, check=False)
+        done = run(cfrd, DECK, "--out", out, "--results", "full", *options, check=False)
         if done.returncode != 0:
             return check(f"run-{label}", False, f"exit {done.returncode}: {done.stderr[:300]}")
         files[label] = os.path.join(out, os.path.basename(DECK)[:-4] + ".h5")
@@ -197,7 +200,8 @@ def main(argv=None):
         xmf, deck = args.xmf, args.deck
     elif args.cfrd:
         os.makedirs(args.workdir, exist_ok=True)
-        done = run(args.cfrd, XDMF_DECK, "--out", args.workdir, check=False)
+        done = run(args.cfrd, XDMF_DECK, "--out", args.workdir, "--results", "full",
+                   check=False)
         if done.returncode != 0:
             check("run", False, f"{args.cfrd} {XDMF_DECK}: exit {done.returncode}: "
                   f"{done.stderr[-300:]}")

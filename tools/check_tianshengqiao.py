@@ -264,7 +264,8 @@ def check_results(deck, path, balance=False, finding=False, label="tsq"):
                   f"|reactions + weight + water| / |weight + water| = {worst_balance:.2e} (tol "
                   f"1e-9; shoelace weights, closed-form water)")
         if finding:
-            u, active = st[-1]["displacement_total"][...], st[-1]["active"][...].astype(bool)
+            u = results.field(st[-1], "displacement_total")
+            active = st[-1]["active"][...].astype(bool)
             used = np.unique(conn[active])
             k = used[np.argmin(u[used, 1])]
             rel = (xy[k, 1] - base) / (xy[:, 1].max() - base)

@@ -27,7 +27,8 @@ import sys
 
 import numpy as np
 
-from cfrdtools.results import open_results, text
+from cfrdtools.results import DERIVED, open_results, text
+from cfrdtools.results import field as stage_field
 
 # quantity -> (location kind, components), in the order of docs/results.md.
 QUANTITIES = {
@@ -160,8 +161,8 @@ def read_h5(path, wanted=None):
                     ("stress", "stress_centroid", elements, elements + 1, slice(None)),
                     ("principal", "principal", elements, elements + 1, slice(0, 2)),
                     ("stress_level", "stress_level", elements, elements + 1, slice(None))):
-                if dset in g and want(q):
-                    v = g[dset][...][rows]
+                if (dset in g or dset in DERIVED) and want(q):
+                    v = stage_field(g, dset)[rows]     # a lean file's derived fields computed
                     rs.add(q, s, [int(i) for i in ids], QUANTITIES[q][1],
                            v[..., cols] if v.ndim > 1 else v)
             if "reaction" in g and want("reaction"):
@@ -181,10 +182,11 @@ def read_h5(path, wanted=None):
             for q, attr in (("residual", "max_residual"), ("water_level", "water_level")):
                 if attr in a and want(q):    # (no water level while the reservoir is empty)
                     rs.add(q, s, ["-"], QUANTITIES[q][1], [[float(a[attr])]])
-            if "displacement_total" in g:
+            if "displacement_total" in g or "displacement" in g:    # (lean: computed)
                 get_extremes = want("extremes") and len(nodes) > 0
                 get_gauges = bool(gauges) and want("gauge")
-                u = g["displacement_total"][...] if get_extremes or get_gauges else None
+                u = stage_field(g, "displacement_total") if get_extremes or get_gauges \
+                    else None
                 if get_extremes:
                     un = u[nodes - 1]
                     rs.add("extremes", s, ["-"], QUANTITIES["extremes"][1],

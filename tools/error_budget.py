@@ -15,7 +15,7 @@ import sys
 
 from cfrdtools import runner, tables
 from cfrdtools.checks import parser
-from cfrdtools.results import open_results, openings, stages, text
+from cfrdtools.results import field, open_results, openings, stages, text
 
 GEOMETRY = os.path.join(runner.ROOT, "inputs", "tianshengqiao-i.toml")
 OBSERVED = {"w1": 0.15, "d1": 7.2, "w2": 0.10, "d2": 5.0, "settlement": 3.0}
@@ -185,9 +185,9 @@ def figures(base):
     with open_results(base + ".h5") as f:
         dated = [(text(g.attrs["date"]), g) for g in stages(f)]
         g = [g for date, g in dated if date.startswith(("1999.08", "1999-08"))][-1]
-        out["settlement"] = float(-g["displacement_total"][:, 1].min())
+        out["settlement"] = float(-field(g, "displacement_total")[:, 1].min())
         out["end_date"], g = dated[-1]
-        out["settlement_end"] = float(-g["displacement_total"][:, 1].min())
+        out["settlement_end"] = float(-field(g, "displacement_total")[:, 1].min())
     return out
 
 

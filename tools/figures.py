@@ -60,7 +60,7 @@ def section_field(path, what="settlement", stage=None):
         xy, conn = h5["mesh/coordinates"][...], h5["mesh/connectivity"][...] - 1
         name = sorted(h5["stages"])[-1] if stage is None else f"stage_{stage:04d}"
         g = h5["stages"][name]
-        u, quads = g["displacement_total"][...], conn[g["active"][...].astype(bool)]
+        u, quads = results.field(g, "displacement_total"), conn[g["active"][...].astype(bool)]
         attrs = {k: text(v) if isinstance(v, (bytes, str)) else v for k, v in g.attrs.items()}
         title = text(h5.attrs["title"])
     value, label = (-u[:, 1] * 100.0, "settlement (cm)") if what == "settlement" else \
@@ -125,7 +125,7 @@ def gauge_histories(path):
     """Per dated stage: time (years), and ux and settlement (cm) at each gauge."""
     with h5py.File(path, "r") as h5:
         names, nodes = results.gauges(h5)
-        dated = [(text(g.attrs.get("date", "")).strip(), g["displacement_total"][...])
+        dated = [(text(g.attrs.get("date", "")).strip(), results.field(g, "displacement_total"))
                  for g in results.stages(h5)]
         dated = [(d, u) for d, u in dated if d]
     return names, np.array([year_of(d) for d, _ in dated]), \

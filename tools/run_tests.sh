@@ -197,6 +197,11 @@ tool_checks "xdmf" python3 tools/check_results_format.py --xdmf --cfrd "$cfrd" \
 # its XDMF file read back by meshio, --compress usage errors (tools/check_results_format.py).
 tool_checks "results format" python3 tools/check_results_format.py --cfrd "$cfrd" \
     --workdir "$work/format"
+# The lean results file (issue 21, the default): every dataset of a --results full file at
+# every stage equal to the lean file's or computed from it by tools/cfrdtools bit for bit,
+# the links, the lean XDMF against the full one, a lean file continued as a full one.
+tool_checks "results lean" python3 tools/check_results_lean.py --cfrd "$cfrd" \
+    --workdir "$work/lean"
 # The measuring aid of issue 21: CFRD_WRITE_MATRIX leaves the results bit-identical, writes
 # the stage's matrix (read back by scipy), and tools/factor_floor.c solves it (x = 1).
 tool_checks "matrix market" python3 tools/check_matrix_market.py --cfrd "$cfrd" \

@@ -22,7 +22,7 @@ import h5py
 import numpy as np
 
 from cfrdtools.plots import plt, save
-from cfrdtools.results import text
+from cfrdtools.results import field, text
 
 BANDS = (0.0, 2.0, 5.0, 10.0, 20.0, 30.0, 50.0, 100.0, 200.0, 400.0)   # m from the toe
 FIXED = (5.0, 10.0, 15.0, 20.0, 30.0, 50.0, 100.0)                      # m from the toe
@@ -44,7 +44,7 @@ def slab_stresses(path, stage=None, base=False):
         ends = xy[nodes[np.abs(xy[nodes, 1] - xy[nodes, 1].min()) < 1e-6]] if base else toe[None]
         active = g["active"][...].astype(bool)[element]
         centre = xy[conn[element[active]]].mean(axis=1)
-        sigma1 = g["principal"][...][element[active], 0]
+        sigma1 = field(g, "principal")[element[active], 0]
         placed = (r["axial"][...] != 0.0) | (r["moment"][...] != 0.0)
         sx, sy = r["section_x"][...][placed], r["section_y"][...][placed]
         water, cushion = r["sigma_water"][...][placed], r["sigma_cushion"][...][placed]

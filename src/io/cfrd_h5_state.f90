@@ -30,11 +30,13 @@ contains
 
     !> The group `state` of the stage group `stage_id`: attributes, and the carry packed in
     !> two datasets, `reals` and `ints` (few HDF5 objects: each costs a run time), laid out
-    !> as state_lengths says.
-    subroutine write_stage_state(stage_id, stage, st)
+    !> as state_lengths says. `filtered` (a lean file): both through the filters like the
+    !> stage's fields when large enough, else contiguous.
+    subroutine write_stage_state(stage_id, stage, st, filtered)
         integer(hid_t), intent(in) :: stage_id
         type(stage_result_t), intent(in) :: stage
         type(h5_state_t), intent(inout) :: st
+        logical, intent(in) :: filtered
         integer(hid_t) :: id
         integer :: n(nlengths), deflate
         logical :: single
@@ -42,8 +44,8 @@ contains
         integer, allocatable :: ints(:)
         single = st%single
         deflate = st%deflate
-        ! the packed state unfiltered: deflate gains little on its values and cost a run 4 %
-        ! of its time (docs/performance.md (j))
+        ! the packed state unfiltered in a full file, as before issue 21's lean files (the
+        ! deflate filter cost the x2 contact deck 4 %, docs/performance.md (j))
         st%single = .false.
         st%deflate = 0
         call open_group(stage_id, 'state', id, st)
@@ -71,8 +73,13 @@ contains
                 ints = [ints, c%ngroup, c%tgroup, c%grp_ptr, c%grp_node]
                 reals = [reals, c%beta]
             end if
+            ! a lean file: the loads compress to about 0.3 (zeros of the nodes not yet
+            ! placed, loads that repeat), the contact state's integers (stage numbers,
+            ! flags) to little, for about 1 % of a run (docs/performance.md (q-files))
+            if (filtered) st%deflate = deflate
             call dataset_real1(id, 'reals', reals, 'kN/m, m, kPa, m2, -', state_reals, st)
             call dataset_int1(id, 'ints', ints, st)
+            st%deflate = 0
         end associate
         st%deflate = deflate
         if (single) then

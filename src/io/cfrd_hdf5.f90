@@ -21,12 +21,13 @@ module cfrd_hdf5
     use cfrd_clock, only: iso_timestamp
     use cfrd_error, only: error_t, fatal_error, io_error
     use cfrd_version, only: cfrd_version_string
-    use cfrd_model, only: model_t, stage_kind_name, dry_level, law_name
+    use cfrd_model, only: model_t, stage_kind_name, dry_level, law_name, stage_reset
     use cfrd_results, only: results_t, stage_result_t
     use cfrd_interface_io, only: has_interfaces, has_slab, has_contact
     use cfrd_effects, only: effects_text
     use cfrd_run_identity, only: run_identity_t
     use cfrd_h5_state, only: write_stage_state
+    use cfrd_h5_links, only: kept_t, real1_once, real2_once, real3_once
     implicit none
     private
 
@@ -47,6 +48,11 @@ module cfrd_hdf5
         !> the stages' real datasets in IEEE single precision (about 7 digits), the mesh,
         !> the deck and every attribute in double
         logical :: single = .false.
+        !> cfrd --results full: also what is derived or stored twice (stress_centroid,
+        !> principal, displacement_total, displacement_xyz, displacement_total_xyz; what
+        !> repeats written out at every stage, not linked): the layout before issue 21.
+        !> Default (lean): those are left out or linked (docs/results.md)
+        logical :: full = .false.
     end type results_format_t
 
     !> A results file open for writing, one stage after another.
@@ -59,19 +65,23 @@ module cfrd_hdf5
         logical :: contact = .false.         !! the deck has CONTACT pairs
         type(results_format_t) :: format
         character(len=:), allocatable :: path
+        !> lean files: the datasets stored once, linked while their values stay the same
+        type(kept_t), allocatable :: kept(:)
     end type results_file_t
 
 contains
 
-    !> Write the results of a run held in memory to `path` (replacing it), complete.
-    subroutine write_results_h5(path, model, results, error)
+    !> Write the results of a run held in memory to `path` (replacing it), complete;
+    !> `format` as for open_results_h5.
+    subroutine write_results_h5(path, model, results, error, format)
         character(len=*), intent(in) :: path
         type(model_t), intent(in) :: model
         type(results_t), intent(in) :: results
         type(error_t), allocatable, intent(out) :: error
+        type(results_format_t), intent(in), optional :: format
         type(results_file_t) :: file
         integer :: s
-        call open_results_h5(file, path, model, error)
+        call open_results_h5(file, path, model, error, format=format)
         do s = 1, size(results%stages)
             if (allocated(error)) exit
             call write_stage_h5(file, s, results%stages(s), error)
@@ -144,6 +154,7 @@ contains
         call attr_text(file%file_id, 'fields_precision', &
                        merge('float32', 'float64', file%format%single), st)
         call attr_int(file%file_id, 'deflate_level', file%format%deflate, st)
+        call attr_text(file%file_id, 'results', merge('full', 'lean', file%format%full), st)
 
         call open_group(file%file_id, 'input', group_id, st)
         call dataset_text(group_id, 'deck', model%deck_text, st)
@@ -209,6 +220,8 @@ contains
         integer(hid_t) :: stage_id, solver_id
         character(len=16) :: stage_name
         real(dp), allocatable :: u3(:, :)
+        logical :: lean
+        character(len=:), allocatable :: path
 
         if (file%stages_id < 0) then
             call fatal_error(error, 'the results file is not open', io_error)
@@ -217,6 +230,8 @@ contains
         write (stage_name, '(a,i4.4)') 'stage_', number
         st%deflate = file%format%deflate
         st%single = file%format%single
+        lean = .not. file%format%full
+        path = '/stages/'//trim(stage_name)
         call open_group(file%stages_id, trim(stage_name), stage_id, st)
         call attr_text(stage_id, 'name', stage%name, st)
         call attr_text(stage_id, 'kind', stage_kind_name(stage%kind), st)
@@ -240,48 +255,69 @@ contains
         call attr_text(stage_id, 'attribute_units', 'water_level m; max_residual -; '// &
                        'wall_time s; applied_load, reaction_sum kN/m (x, y)', st)
         call dataset_int1(stage_id, 'active', merge(1, 0, stage%active), st)
-        call dataset_real1(stage_id, 'stress_level', stage%stress_level, '-', &
-                           'largest Gauss-point stress level of the element', st)
-        call dataset_real2(stage_id, 'displacement', stage%displacement, 'm', 'ux, uy', st)
-        call dataset_real2(stage_id, 'displacement_total', stage%displacement_total, 'm', &
-                           'ux, uy since placement (RESETs added back)', st)
-        ! Three-component copies for XDMF (ParaView's vectors have three components).
-        allocate (u3(3, size(stage%displacement, 2)), source=0.0_dp)
-        u3(1:2, :) = stage%displacement
-        call dataset_real2(stage_id, 'displacement_xyz', u3, 'm', &
-                           'ux, uy, 0 (displacement padded with z = 0 for XDMF)', st)
-        u3(1:2, :) = stage%displacement_total
-        call dataset_real2(stage_id, 'displacement_total_xyz', u3, 'm', &
-                           'ux, uy, 0 (displacement_total padded with z = 0 for XDMF)', st)
-        deallocate (u3)
-        call dataset_real2(stage_id, 'reaction', stage%reaction, 'kN/m', 'rx, ry', st)
-        call dataset_real3(stage_id, 'stress_gauss', stage%stress_gauss, 'kPa', &
-                           'xx, yy, zz, xy', st)
-        call dataset_real2(stage_id, 'stress_centroid', stage%stress_centroid, 'kPa', &
-                           'xx, yy, zz, xy', st)
-        call dataset_real2(stage_id, 'principal', stage%principal, 'kPa, kPa, deg', &
-                           'sigma1, sigma3, angle of sigma1 from x', st)
+        call real1_once(file%kept, lean, stage_id, path, 'stress_level', stage%stress_level, &
+                        '-', 'largest Gauss-point stress level of the element', st)
+        call real2_once(file%kept, lean, stage_id, path, 'displacement', stage%displacement, &
+                        'm', 'ux, uy', st)
+        if (file%format%full) then
+            call dataset_real2(stage_id, 'displacement_total', stage%displacement_total, 'm', &
+                               'ux, uy since placement (RESETs added back)', st)
+        else if (stage%kind == stage_reset .and. allocated(stage%carry%u_before_reset)) then
+            ! lean: displacement_total = u_before_reset + displacement, computed by the
+            ! readers (cfrdtools.results.field, the XDMF file) from this copy of the
+            ! RESET's state/reals part (a RESET stage's; a few per deck)
+            call dataset_real2(stage_id, 'u_before_reset', stage%carry%u_before_reset, 'm', &
+                               'ux, uy zeroed by the RESETs up to this stage', st)
+        end if
+        if (file%format%full) then
+            ! Three-component copies for XDMF (ParaView's vectors have three components);
+            ! a lean file's XDMF pads the two-component datasets itself (cfrd_xdmf).
+            allocate (u3(3, size(stage%displacement, 2)), source=0.0_dp)
+            u3(1:2, :) = stage%displacement
+            call dataset_real2(stage_id, 'displacement_xyz', u3, 'm', &
+                               'ux, uy, 0 (displacement padded with z = 0 for XDMF)', st)
+            u3(1:2, :) = stage%displacement_total
+            call dataset_real2(stage_id, 'displacement_total_xyz', u3, 'm', &
+                               'ux, uy, 0 (displacement_total padded with z = 0 for XDMF)', st)
+            deallocate (u3)
+        end if
+        call real2_once(file%kept, lean, stage_id, path, 'reaction', stage%reaction, 'kN/m', &
+                        'rx, ry', st)
+        call real3_once(file%kept, lean, stage_id, path, 'stress_gauss', stage%stress_gauss, &
+                        'kPa', 'xx, yy, zz, xy', st)
+        ! Derived from stress_gauss: tools/cfrdtools/results.py recomputes them bit for bit
+        ! (tools/check_results_lean.py); written with --results full.
+        if (file%format%full) then
+            call dataset_real2(stage_id, 'stress_centroid', stage%stress_centroid, 'kPa', &
+                               'xx, yy, zz, xy', st)
+            call dataset_real2(stage_id, 'principal', stage%principal, 'kPa, kPa, deg', &
+                               'sigma1, sigma3, angle of sigma1 from x', st)
+        end if
         if (allocated(stage%strain_gauss)) &
-            call dataset_real3(stage_id, 'strain_gauss', stage%strain_gauss, '-, m', &
-                               'xx, yy, zz, xy since placement (joints: du_n, du_s in m)', st)
+            call real3_once(file%kept, lean, stage_id, path, 'strain_gauss', &
+                            stage%strain_gauss, '-, m', &
+                            'xx, yy, zz, xy since placement (joints: du_n, du_s in m)', st)
         if (allocated(stage%history_gauss)) &
-            call dataset_real3(stage_id, 'history_gauss', stage%history_gauss, '-', &
-                               'past maximum of the E-B stress-state function SS = SL '// &
-                               '(sigma3/pa)^(1/4), past maximum of the stress level SL '// &
-                               '(zero for other laws)', st)
+            call real3_once(file%kept, lean, stage_id, path, 'history_gauss', &
+                            stage%history_gauss, '-', &
+                            'past maximum of the E-B stress-state function SS = SL '// &
+                            '(sigma3/pa)^(1/4), past maximum of the stress level SL '// &
+                            '(zero for other laws)', st)
         if (allocated(stage%creep_gauss)) &
-            call dataset_real3(stage_id, 'creep_gauss', stage%creep_gauss, '-', &
-                               'volumetric and generalised shear creep strain reached '// &
-                               '(compression positive; zero where the material does not '// &
-                               'creep)', st)
+            call real3_once(file%kept, lean, stage_id, path, 'creep_gauss', stage%creep_gauss, &
+                            '-', 'volumetric and generalised shear creep strain reached '// &
+                            '(compression positive; zero where the material does not '// &
+                            'creep)', st)
         if (allocated(stage%wetting_gauss)) &
-            call dataset_real3(stage_id, 'wetting_gauss', stage%wetting_gauss, '-', &
-                               'volumetric and generalised shear wetting strain reached '// &
-                               '(compression positive; zero where nothing was wetted)', st)
-        call write_interface_stage(stage_id, file, stage, st)
+            call real3_once(file%kept, lean, stage_id, path, 'wetting_gauss', &
+                            stage%wetting_gauss, '-', &
+                            'volumetric and generalised shear wetting strain reached '// &
+                            '(compression positive; zero where nothing was wetted)', st)
+        call write_interface_stage(stage_id, path, file, stage, st)
         call write_pjoint_h5(stage_id, stage, st)
         ! what a restart from this stage needs (docs/results.md, "Restart")
-        if (allocated(stage%carry%f_ext)) call write_stage_state(stage_id, stage, st)
+        if (allocated(stage%carry%f_ext)) call write_stage_state(stage_id, stage, st, &
+                                                                 .not. file%format%full)
         call open_group(stage_id, 'solver', solver_id, st)
         call attr_int(solver_id, 'neq', stage%stats%neq, st)
         call attr_int(solver_id, 'nnz', stage%stats%nnz, st)
@@ -366,19 +402,21 @@ contains
     end subroutine flush_file
 
     !> The stage's interface stations, openings per slab phase and slab stresses.
-    subroutine write_interface_stage(stage_id, file, stage, st)
+    subroutine write_interface_stage(stage_id, stage_path, file, stage, st)
         integer(hid_t), intent(in) :: stage_id
-        type(results_file_t), intent(in) :: file
+        character(len=*), intent(in) :: stage_path    !! /stages/stage_NNNN
+        type(results_file_t), intent(inout) :: file
         type(stage_result_t), intent(in) :: stage
         type(h5_state_t), intent(inout) :: st
         integer(hid_t) :: id
         integer :: n
+        logical :: lean
+        lean = .not. file%format%full
         if (file%interfaces) then
             call open_group(stage_id, 'interface', id, st)
             associate (r => stage%interface)
-                call dataset_real2(id, 'x', r%x, 'm', 'station 1, 2 of each interface element', st)
-                call dataset_real2(id, 'y', r%y, 'm', 'station 1, 2', st)
-                call dataset_real2(id, 's', r%s, 'm', 'distance along the line', st)
+                call geometry('interface', r%x, r%y, r%s, 'station 1, 2 of each interface '// &
+                              'element', 'station 1, 2', 'distance along the line')
                 call dataset_real2(id, 'sigma_n', r%sigma_n, 'kPa', 'normal stress, tension +', st)
                 call dataset_real2(id, 'tau', r%tau, 'kPa', 'shear stress along t', st)
                 call dataset_real2(id, 'du_n', r%du_n, 'm', 'relative normal displacement, opening +', &
@@ -405,9 +443,12 @@ contains
                 call dataset_int1(id, 'group', r%group, st)
                 call dataset_int1(id, 'placed', merge(1, 0, r%placed), st)
                 call dataset_int1(id, 'status', r%status, st)
-                call dataset_real1(id, 'x', r%x, 'm', 'slave node, as meshed', st)
-                call dataset_real1(id, 'y', r%y, 'm', 'slave node, as meshed', st)
-                call dataset_real1(id, 's', r%s, 'm', 'along the slave surface', st)
+                call real1_once(file%kept, lean, id, stage_path//'/contact', 'x', r%x, 'm', &
+                                'slave node, as meshed', st, key='contact/x')
+                call real1_once(file%kept, lean, id, stage_path//'/contact', 'y', r%y, 'm', &
+                                'slave node, as meshed', st, key='contact/y')
+                call real1_once(file%kept, lean, id, stage_path//'/contact', 's', r%s, 'm', &
+                                'along the slave surface', st, key='contact/s')
                 call dataset_real1(id, 'gap', r%gap, 'm', 'normal gap, open +', st)
                 call dataset_real1(id, 'slip', r%slip, 'm', 'accumulated slip along t', st)
                 call dataset_real1(id, 'sigma_n', r%sigma_n, 'kPa', &
@@ -432,26 +473,42 @@ contains
             call open_group(stage_id, 'slab', id, st)
             associate (r => stage%slab)
                 call dataset_int1(id, 'element', r%element, st)
-                call dataset_real2(id, 'x', r%x, 'm', 'Gauss points', st)
-                call dataset_real2(id, 'y', r%y, 'm', 'Gauss points', st)
-                call dataset_real2(id, 's', r%s, 'm', 'along the slab axis', st)
+                call geometry('slab', r%x, r%y, r%s, 'Gauss points', 'Gauss points', &
+                              'along the slab axis')
                 call dataset_real2(id, 'sigma_t', r%sigma_t, 'kPa', 'along the axis', st)
                 call dataset_real2(id, 'tau', r%tau, 'kPa', 'shear stress', st)
-                call dataset_real1(id, 'section_s', r%section_s, 'm', 'section centre', st)
-                call dataset_real1(id, 'thickness', r%thickness, 'm', 'section thickness', st)
+                call real1_once(file%kept, lean, id, stage_path//'/slab', 'section_s', &
+                                r%section_s, 'm', 'section centre', st, key='slab/section_s')
+                call real1_once(file%kept, lean, id, stage_path//'/slab', 'thickness', &
+                                r%thickness, 'm', 'section thickness', st, key='slab/thickness')
                 call dataset_real1(id, 'axial', r%axial, 'kN/m', 'N, tension +', st)
                 call dataset_real1(id, 'shear', r%shear, 'kN/m', 'V', st)
                 call dataset_real1(id, 'moment', r%moment, 'kN m/m', &
                                    'M, tension on the water side +', st)
-                call dataset_real1(id, 'section_x', r%section_x, 'm', 'section centre', st)
-                call dataset_real1(id, 'section_y', r%section_y, 'm', 'section centre', st)
+                call real1_once(file%kept, lean, id, stage_path//'/slab', 'section_x', &
+                                r%section_x, 'm', 'section centre', st, key='slab/section_x')
+                call real1_once(file%kept, lean, id, stage_path//'/slab', 'section_y', &
+                                r%section_y, 'm', 'section centre', st, key='slab/section_y')
                 call dataset_real1(id, 'sigma_water', r%sigma_water, 'kPa', 'N/h + 6M/h^2', st)
                 call dataset_real1(id, 'sigma_cushion', r%sigma_cushion, 'kPa', 'N/h - 6M/h^2', st)
-                call dataset_real1(id, 'tensile_strength', r%tensile_strength, 'kPa', 'f_t', st)
+                call real1_once(file%kept, lean, id, stage_path//'/slab', 'tensile_strength', &
+                                r%tensile_strength, 'kPa', 'f_t', st, key='slab/tensile_strength')
                 call dataset_real1(id, 'crack_ratio', r%crack_ratio, '-', 'sigma_1 / f_t', st)
             end associate
             call close_group(id, st)
         end if
+    contains
+        !> The stations' or Gauss points' x, y and s of `group`, stored once in a lean file.
+        subroutine geometry(group, x, y, s, where_x, where_y, along)
+            character(len=*), intent(in) :: group, where_x, where_y, along
+            real(dp), intent(in) :: x(:, :), y(:, :), s(:, :)
+            call real2_once(file%kept, lean, id, stage_path//'/'//group, 'x', x, 'm', where_x, &
+                            st, key=group//'/x')
+            call real2_once(file%kept, lean, id, stage_path//'/'//group, 'y', y, 'm', where_y, &
+                            st, key=group//'/y')
+            call real2_once(file%kept, lean, id, stage_path//'/'//group, 's', s, 'm', along, &
+                            st, key=group//'/s')
+        end subroutine geometry
     end subroutine write_interface_stage
 
 end module cfrd_hdf5

@@ -37,6 +37,7 @@ module cfrd_restart
         !> stages' groups instead of writing them again
         integer :: deflate = -1
         logical :: single = .false.
+        logical :: full = .true.     !! --results full (files before it have everything)
     end type restart_t
 
 contains
@@ -89,6 +90,7 @@ contains
         source%run_id = text_attribute(source%file_id, 'run_id')
         source%deflate = int_attribute(source%file_id, 'deflate_level')
         source%single = text_attribute(source%file_id, 'fields_precision') == 'float32'
+        source%full = text_attribute(source%file_id, 'results') /= 'lean'
         call read_text(source%file_id, 'input/deck', source%deck_text, st)
         if (.not. st%ok) call fatal_error(error, path//': cannot restart from it: HDF5 '// &
                                           'failed at '//st%failed, input_error)

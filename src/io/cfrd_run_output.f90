@@ -273,7 +273,8 @@ contains
             if (.not. allocated(error)) call write_xdmf(stem//'.xmf'//part, &
                                                         base_name(stem)//'.h5', model, &
                                                         out%completed, error, run_id, &
-                                                        out%h5%format%single)
+                                                        out%h5%format%single, &
+                                                        out%h5%format%full)
             if (.not. allocated(error) .and. written(4)) &
                 call write_gauge_csv(stem//'-gauges.csv'//part, model, summaries, error, run_id)
             if (.not. allocated(error) .and. written(6)) &
@@ -369,7 +370,7 @@ contains
         if (.not. allocated(error) .and. out%completed > 0) &
             call write_xdmf(stem//incomplete//'.xmf'//part, base_name(stem)//incomplete// &
                             '.h5', model, out%completed, error, out%identity%run_id, &
-                            out%h5%format%single)
+                            out%h5%format%single, out%h5%format%full)
         if (.not. allocated(error)) &
             call move_file(stem//'.h5'//part, stem//incomplete//'.h5', error)
         if (.not. allocated(error) .and. out%completed > 0) &

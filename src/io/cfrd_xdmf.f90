@@ -2,12 +2,16 @@
 !> readers such as meshio) open the results as a time series: one temporal collection, one
 !> grid per completed stage at time = the stage number, each a Quadrilateral topology over
 !> the mesh, with node attributes displacement and displacement_total (three components,
-!> z = 0) and cell attributes stress_centroid, principal, stress_level, active, material and
-!> group. The XML holds no numbers of its own: every DataItem points into the HDF5 file by
-!> a path relative to the XDMF file (docs/results.md).
+!> z = 0) and cell attributes stress_centroid and principal (files written with --results
+!> full), stress_level, active, material and group. The XML holds no numbers of its own:
+!> every DataItem points into the HDF5 file by a path relative to the XDMF file
+!> (docs/results.md). A lean file (the default) has no three-component copies nor
+!> displacement_total: the vectors are XDMF Functions, JOIN($0, $1, 0 * $0) of the two
+!> columns of the (nnode, 2) displacement taken as HyperSlabs, plus for displacement_total
+!> the columns of u_before_reset of the last RESET stage (each a Function $0 + $1).
 module cfrd_xdmf
     use cfrd_error, only: error_t, fatal_error, io_error
-    use cfrd_model, only: model_t
+    use cfrd_model, only: model_t, stage_reset
     use cfrd_strings, only: to_text
     implicit none
     private
@@ -19,7 +23,7 @@ contains
     !> Write the XDMF file `path` for the first `nstages` stages of the results file whose
     !> name, relative to the XDMF file, is `h5_name`; a comment gives the `run_id` of the
     !> result set when given.
-    subroutine write_xdmf(path, h5_name, model, nstages, error, run_id, single)
+    subroutine write_xdmf(path, h5_name, model, nstages, error, run_id, single, full)
         character(len=*), intent(in) :: path, h5_name
         type(model_t), intent(in) :: model
         integer, intent(in) :: nstages
@@ -27,8 +31,11 @@ contains
         character(len=*), intent(in), optional :: run_id
         !> the stages' real datasets are in single precision (cfrd --float32)
         logical, intent(in), optional :: single
+        !> the file has the derived fields and the three-component copies (--results full)
+        logical, intent(in), optional :: full
+        logical :: all_fields
         character(len=1) :: fp
-        integer :: unit, stat, s
+        integer :: unit, stat, s, reset
         character(len=256) :: msg
         character(len=:), allocatable :: nnode, nelem, stage
         character(len=16) :: stage_name
@@ -43,6 +50,8 @@ contains
         if (present(single)) then
             if (single) fp = '4'
         end if
+        all_fields = .false.
+        if (present(full)) all_fields = full
         nnode = to_text(model%mesh%nnode)
         nelem = to_text(model%mesh%nelem)
         write (unit, '(a)', iostat=stat, iomsg=msg) '<?xml version="1.0" ?>', &
@@ -54,8 +63,10 @@ contains
             '  <Domain>', &
             '    <Grid Name="'//xml_escape(model%title)//'" GridType="Collection" '// &
             'CollectionType="Temporal">'
+        reset = 0
         do s = 1, nstages
             if (stat /= 0) exit
+            if (model%stages(s)%kind == stage_reset) reset = s
             write (stage_name, '(a,i4.4)') 'stage_', s
             stage = '/stages/'//trim(stage_name)//'/'
             write (unit, '(a)', iostat=stat, iomsg=msg) &
@@ -70,14 +81,14 @@ contains
                 '        <Geometry GeometryType="XY">', &
                 item(nnode//' 2', 'Float', '8', '/mesh/coordinates'), &
                 '        </Geometry>', &
-                attribute('displacement', 'Vector', 'Node', nnode//' 3', 'Float', fp, &
-                          stage//'displacement_xyz'), &
-                attribute('displacement_total', 'Vector', 'Node', nnode//' 3', 'Float', fp, &
-                          stage//'displacement_total_xyz'), &
+                vector('displacement', stage//'displacement', ''), &
+                vector('displacement_total', stage//'displacement', offset(reset))
+            if (all_fields .and. stat == 0) write (unit, '(a)', iostat=stat, iomsg=msg) &
                 attribute('stress_centroid', 'Matrix', 'Cell', nelem//' 4', 'Float', fp, &
                           stage//'stress_centroid'), &
                 attribute('principal', 'Matrix', 'Cell', nelem//' 3', 'Float', fp, &
-                          stage//'principal'), &
+                          stage//'principal')
+            if (stat == 0) write (unit, '(a)', iostat=stat, iomsg=msg) &
                 attribute('stress_level', 'Scalar', 'Cell', nelem, 'Float', fp, &
                           stage//'stress_level'), &
                 attribute('active', 'Scalar', 'Cell', nelem, 'Int', '4', stage//'active'), &
@@ -98,6 +109,65 @@ contains
                    '" Precision="'//precision//'" Format="HDF">'//xml_escape(h5_name)//':'// &
                    dataset//'</DataItem>'
         end function item
+
+        !> The node vector `name` with z = 0: its copy padded with z = 0 (name_xyz, --results
+        !> full), else the (nnode, 2) dataset `dataset` padded by XDMF (module comment), plus
+        !> the (nnode, 2) dataset `shift` when one is named (a lean file's displacement_total:
+        !> displacement + u_before_reset of the last RESET stage).
+        function vector(name, dataset, shift) result(text)
+            character(len=*), intent(in) :: name, dataset, shift
+            character(len=:), allocatable :: text
+            if (all_fields) then
+                text = attribute(name, 'Vector', 'Node', nnode//' 3', 'Float', fp, &
+                                 dataset(:index(dataset, '/', back=.true.))//name//'_xyz')
+                return
+            end if
+            text = '        <Attribute Name="'//name//'" AttributeType="Vector" '// &
+                   'Center="Node">'//new_line('a')
+            if (len(shift) == 0) then
+                text = text//'          <DataItem ItemType="Function" '// &
+                       'Function="JOIN($0, $1, 0 * $0)" Dimensions="'//nnode//' 3">'// &
+                       new_line('a')//column(dataset, '0')//column(dataset, '1')
+            else
+                ! (VTK's XDMF reader evaluates JOIN($0 + $2, ...) wrongly: nested sums)
+                text = text//'          <DataItem ItemType="Function" '// &
+                       'Function="JOIN($0, $1, 0 * $0)" Dimensions="'//nnode//' 3">'// &
+                       new_line('a')//sum(dataset, shift, '0')//sum(dataset, shift, '1')
+            end if
+            text = text//'          </DataItem>'//new_line('a')//'        </Attribute>'
+        end function vector
+
+        !> Column k of dataset + column k of shift, (nnode, 1).
+        function sum(dataset, shift, k) result(item)
+            character(len=*), intent(in) :: dataset, shift, k
+            character(len=:), allocatable :: item
+            item = '          <DataItem ItemType="Function" Function="$0 + $1" '// &
+                   'Dimensions="'//nnode//' 1">'//new_line('a')//column(dataset, k)// &
+                   column(shift, k)//'          </DataItem>'//new_line('a')
+        end function sum
+
+        !> The lean file's u_before_reset of stage k (none before the first RESET).
+        function offset(k) result(path)
+            integer, intent(in) :: k
+            character(len=:), allocatable :: path
+            character(len=16) :: name
+            path = ''
+            if (k == 0) return
+            write (name, '(a,i4.4)') 'stage_', k
+            path = '/stages/'//trim(name)//'/u_before_reset'
+        end function offset
+
+        !> column k (0-based) of the (nnode, 2) dataset, (nnode, 1)
+        function column(dataset, k) result(slab)
+            character(len=*), intent(in) :: dataset, k
+            character(len=:), allocatable :: slab
+            slab = '          <DataItem ItemType="HyperSlab" Dimensions="'//nnode// &
+                   ' 1" Type="HyperSlab">'//new_line('a')// &
+                   '          <DataItem Dimensions="3 2" Format="XML">0 '//k//' 1 1 '// &
+                   nnode//' 1</DataItem>'//new_line('a')// &
+                   item(nnode//' 2', 'Float', fp, dataset)//new_line('a')// &
+                   '          </DataItem>'//new_line('a')
+        end function column
 
         function attribute(name, kind, center, dims, number_type, precision, dataset) &
             result(text)

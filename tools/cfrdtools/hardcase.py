@@ -125,8 +125,8 @@ class Run:
             f.visititems(self._finite)
             xy, nelem = f["mesh/coordinates"][...], f["mesh/connectivity"].shape[0]
             for g in results.stages(f):
-                stage = {k: g[k][...] for k in ("displacement", "reaction", "stress_level",
-                                                "principal", "stress_gauss")}
+                stage = {k: results.field(g, k) for k in (
+                    "displacement", "reaction", "stress_level", "principal", "stress_gauss")}
                 stage.update({"c_" + k: g["contact"][k][...] for k in g.get("contact", {})})
                 stage.update(cutbacks=int(g.attrs["cutbacks"]), applied=g.attrs["applied_load"],
                              water_level=float(g.attrs.get("water_level", -np.inf)),
