@@ -12,7 +12,8 @@ Checks, each printing PASS or FAIL:
   - threads-started: a run with --threads 3 has (at least) two more threads than a run with
     --threads 1 while it runs (/proc/PID/task; the program was built with OpenMP), both with
     --linear-solver umfpack (CHOLMOD's own OpenMP loops, held to one thread since
-    docs/performance.md (r), are kept out of the count all the same);
+    docs/performance.md (r), are kept out of the count all the same) and
+    OPENBLAS_NUM_THREADS=1 (no OpenBLAS workers started when the library loads);
   - --threads 0 and --threads x are usage errors (exit 2, the message names the option);
   - with --against BIN (by hand: another build, e.g. main's bin/cfrd before the change), the
     --threads 1 and --threads 2 runs against BIN's run, the same way, bit for bit.
@@ -40,10 +41,14 @@ def most_threads(cfrd, folder, deck, threads):
     """The most threads (/proc/PID/task) seen while cfrd runs deck with --threads N."""
     # UMFPACK: CHOLMOD has supernodal loops on OpenMP teams of its own (CHOLMOD_OMP_NUM_THREADS,
     # fixed when SuiteSparse was built: 4 threads were seen with --threads 1 before cfrd held
-    # them to one, docs/performance.md (r)); kept out so that only cfrd's own loops count
+    # them to one, docs/performance.md (r)); kept out so that only cfrd's own loops count.
+    # OPENBLAS_NUM_THREADS=1 for the same reason: OpenBLAS starts its workers when the
+    # library loads, before cfrd ends them (docs/performance.md (r)), and a sample taken in
+    # that moment would count them with --threads 1 (seen: 2 threads)
     proc = subprocess.Popen([cfrd, "--quiet", "--threads", str(threads), "--linear-solver",
                              "umfpack", "--out", folder, deck],
-                            env=dict(os.environ, OMP_WAIT_POLICY="passive"))
+                            env=dict(os.environ, OMP_WAIT_POLICY="passive",
+                                     OPENBLAS_NUM_THREADS="1"))
     most = 0
     while proc.poll() is None:
         try:
