@@ -15,8 +15,9 @@ default, and the two files read with h5py:
              bytes (the reference is the full file, written by cfrd's own arithmetic);
              nothing else is in the lean file but each RESET stage's u_before_reset, equal
              to its part of state/reals, and mesh/gauss_points (4 for a quadrilateral, 2
-             for a joint, repeated over the 4 components); the root and stage attributes agree (but the run's
-             identity, times and the `results` attribute itself);
+             for a joint, repeated over the 4 components); the root and stage
+             attributes agree (but the run's identity, times and the `results`
+             attribute itself);
   links      displacement_total left out at every stage; the slab geometry (x, y, s) one
              object over the stages where it does not change, and each field of ONCE the
              last stage's object exactly where its values are the last stage's bits (the
