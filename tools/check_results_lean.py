@@ -14,18 +14,23 @@ default, and the two files read with h5py:
              tools/cfrdtools/results.py's field() computes it from the lean file to the same
              bytes (the reference is the full file, written by cfrd's own arithmetic);
              nothing else is in the lean file but each RESET stage's u_before_reset, equal
-             to its part of state/reals; the root and stage attributes agree (but the run's
-             identity, times and the `results` attribute itself);
+             to its part of state/reals, and mesh/gauss_points (4 for a quadrilateral, 2
+             for a joint, repeated over the 4 components); the root and stage
+             attributes agree (but the run's identity, times and the `results`
+             attribute itself);
   links      displacement_total left out at every stage; the slab geometry (x, y, s) one
              object over the stages where it does not change, and each field of ONCE the
              last stage's object exactly where its values are the last stage's bits (the
              Gauss-point fields at a RESET stage);
   xdmf       the lean DECK.xmf, evaluated here (HDF5 items, HyperSlab, the Functions
-             JOIN($0, $1, 0 * $0), of columns or of sums $0 + $1 of columns), gives at every step
-             the node vectors the full DECK.xmf gives through meshio (an independent XDMF
-             reader), bit for bit, and every other attribute of it; it names only datasets
-             that exist in the lean file; where VTK is installed, its vtkXdmfReader (the
-             XDMF 2 reader of ParaView's "Xdmf Reader") reads the same vectors;
+             JOIN($0, $1, 0 * $0), of columns or of sums $0 + $1 of columns, and
+             (0 + $0 + $1 + $2 + $3) / $4 of the Gauss points of stress_gauss over
+             mesh/gauss_points), gives at every step the node vectors and the cell stresses
+             (stress_centroid) the full DECK.xmf gives through meshio (an independent XDMF
+             reader), bit for bit, and every other attribute of it but principal (full
+             only); it names only datasets that exist in the lean file; where VTK is
+             installed, its vtkXdmfReader (the XDMF 2 reader of ParaView's "Xdmf Reader")
+             reads the same vectors and cell stresses;
   restart    a lean file continued from a middle stage with --results full writes the full
              file's stages (its stored stages are rewritten, not copied: they lack the
              derived datasets), every dataset bit for bit;
@@ -40,6 +45,7 @@ the x1 Goodman-joint deck (interface stations).
 """
 
 import os
+import re
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
@@ -112,6 +118,16 @@ def compare_files(full_path, lean_path):
             if p in fd:
                 continue
             stage, _, name = p.rpartition("/")
+            # the Gauss-point counts, the lean XDMF file's divisor of stress_centroid: 4
+            # for quadrilaterals, 2 for Goodman joints (results.QUAD_KINDS, JOINT_KINDS)
+            if p == "mesh/gauss_points":
+                kind = lean["mesh/kind"][...]
+                ng = np.where(np.isin(kind, results.QUAD_KINDS), 4,
+                              np.where(np.isin(kind, results.JOINT_KINDS), 2, 0))
+                if not same_bytes(ld[p][...].astype(np.int64),
+                                  np.repeat(ng[:, None], 4, axis=1).astype(np.int64)):
+                    bad.append(p + " (counts)")
+                continue
             # a RESET stage's u_before_reset: its state/reals part, for the XDMF file
             if name != "u_before_reset" or not same_bytes(
                     ld[p][...], results.u_before_reset(lean[stage]).astype(ld[p].dtype)):
@@ -144,13 +160,44 @@ def compare_files(full_path, lean_path):
 
 
 def expression(expr, args):
-    """An XDMF Function term as cfrd writes them: $a, $a + $b or c * $a."""
-    factor, _, rest = expr.rpartition("*")
-    total = None
-    for arg in rest.split("+"):
-        v = args[int(arg[1:])].ravel()
-        total = v if total is None else total + v
-    return float(factor) * total if factor else total
+    """An XDMF Function term as cfrd writes them ($a, numbers, +, *, / and parentheses,
+    left to right, * and / before +, as XDMF 2's XdmfExpr.y parses them), evaluated
+    element by element in double; a number with an array is applied to every value."""
+    tokens = re.findall(r"\$\d+|\d+\.?\d*(?:[eE][-+]?\d+)?|[-+*/()]", expr)
+    if "".join(tokens) != expr:
+        raise ValueError(f"XDMF Function {expr!r}: not what cfrd writes")
+    pos = 0
+
+    def atom():
+        nonlocal pos
+        token = tokens[pos]
+        pos += 1
+        if token == "(":
+            value = total()
+            pos += 1                    # ")"
+            return value
+        if token.startswith("$"):
+            return args[int(token[1:])].ravel()
+        return float(token)
+
+    def product():
+        nonlocal pos
+        value = atom()
+        while pos < len(tokens) and tokens[pos] in "*/":
+            op, pos = tokens[pos], pos + 1
+            right = atom()
+            value = value * right if op == "*" else value / right
+        return value
+
+    def total():
+        nonlocal pos
+        value = product()
+        while pos < len(tokens) and tokens[pos] == "+":
+            pos += 1
+            value = value + product()
+        return value
+
+    return total()
 
 
 def evaluate(item, folder):
@@ -202,7 +249,7 @@ def check_xdmf(check, label, full_xmf, lean_xmf, lean_h5):
         only_full = set(point_data) | set(cell_data)
         only_full -= lean_names
     return check(f"{label}/xdmf", not bad and not missing and len(grids) == reader.num_steps
-                 and only_full == {"stress_centroid", "principal"},
+                 and only_full == {"principal"},
                  f"{len(grids)} steps, {compared} attribute values of the lean XDMF equal to "
                  f"the full XDMF's read by meshio, bit for bit; left out: "
                  f"{', '.join(sorted(only_full))}"
@@ -213,7 +260,8 @@ def check_xdmf(check, label, full_xmf, lean_xmf, lean_h5):
 def check_vtk(check, label, lean_xmf, lean_h5):
     """The lean XDMF file through VTK's vtkXdmfReader (the XDMF 2 reader ParaView's "Xdmf
     Reader" is), when VTK is installed (it is not a dependency of cfrd: pip install vtk):
-    the node vectors at every step are the HDF5 datasets padded with z = 0, bit for bit."""
+    the node vectors at every step are the HDF5 datasets padded with z = 0, and the cell
+    stresses field()'s stress_centroid, bit for bit."""
     try:
         from vtkmodules.util.numpy_support import vtk_to_numpy
         from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
@@ -239,9 +287,18 @@ def check_vtk(check, label, lean_xmf, lean_h5):
                 if not (v.shape == (u.shape[0], 3) and np.array_equal(v[:, :2], u)
                         and not v[:, 2].any()):
                     bad.append(f"{name} at step {k}")
+            # vtkXdmfReader makes a cell Matrix one tuple of nelem x 4 components (the
+            # full file's stress_centroid too): its values in order are compared
+            c = out.GetCellData().GetArray("stress_centroid")
+            c = None if c is None else vtk_to_numpy(c)
+            ref = results.field(groups[k], "stress_centroid")
+            if c is None or c.size != ref.size or \
+                    c.ravel().tobytes() != ref.ravel().tobytes():
+                bad.append(f"stress_centroid at step {k}")
     check(f"{label}/vtk", times is not None and len(times) == len(groups) and not bad,
           f"{len(times or ())} steps read by VTK's vtkXdmfReader: displacement and "
-          "displacement_total (u_before_reset + displacement) padded with z = 0 equal to "
+          "displacement_total (u_before_reset + displacement) padded with z = 0 and "
+          "stress_centroid (its nelem x 4 values in order) equal to "
           "cfrdtools.results.field()'s, bit for bit"
           + (f"; differ: {', '.join(bad[:4])}" if bad else ""))
 

@@ -28,6 +28,8 @@ module cfrd_hdf5
     use cfrd_run_identity, only: run_identity_t
     use cfrd_h5_state, only: write_stage_state
     use cfrd_h5_links, only: kept_t, real1_once, real2_once, real3_once
+    use cfrd_element, only: element_t
+    use cfrd_element_library, only: make_element
     implicit none
     private
 
@@ -109,6 +111,8 @@ contains
         integer(hid_t) :: group_id
         integer :: hdferr, m, width
         character(len=:), allocatable :: labels(:), laws(:)
+        integer, allocatable :: counts(:, :)
+        type(error_t), allocatable :: kind_error
 
         file%path = path
         if (present(format)) file%format = format
@@ -168,6 +172,14 @@ contains
         call dataset_int1(group_id, 'material', model%mesh%material, st)
         call dataset_int1(group_id, 'group', model%mesh%group, st)
         call dataset_int1(group_id, 'kind', model%mesh%kind, st)
+        ! A lean file's XDMF computes stress_centroid from stress_gauss: it needs the
+        ! divisor of each element's mean, its Gauss-point count (cfrd_xdmf).
+        if (.not. file%format%full) then
+            call gauss_point_counts(model, counts, kind_error)
+            if (allocated(kind_error)) call fail(st, 'mesh/gauss_points: '// &
+                                                 kind_error%message)
+            if (allocated(counts)) call dataset_int2(group_id, 'gauss_points', counts, st)
+        end if
         if (file%interfaces) then
             call dataset_int1(group_id, 'interface_elements', model%interfaces%element, st)
             call dataset_int1(group_id, 'interface_lines', model%interfaces%line, st)
@@ -511,4 +523,27 @@ contains
         end subroutine geometry
     end subroutine write_interface_stage
 
+
+    !> (4, nelem): each element's number of Gauss points (its element implementation's),
+    !> repeated over the four stress components: the divisor of cfrd's stress_centroid
+    !> (the stage driver's sum(stress(:, 1:ng, e))/ng) for the lean XDMF file.
+    subroutine gauss_point_counts(model, counts, error)
+        type(model_t), intent(in) :: model
+        integer, allocatable, intent(out) :: counts(:, :)
+        type(error_t), allocatable, intent(out) :: error
+        class(element_t), allocatable :: element
+        integer :: e
+        allocate (counts(4, model%mesh%nelem))
+        do e = 1, model%mesh%nelem
+            if (e > 1) then
+                if (model%mesh%kind(e) == model%mesh%kind(e - 1)) then
+                    counts(:, e) = counts(:, e - 1)
+                    cycle
+                end if
+            end if
+            call make_element(model%mesh%kind(e), model%analysis, element, error)
+            if (allocated(error)) return
+            counts(:, e) = element%gauss_points()
+        end do
+    end subroutine gauss_point_counts
 end module cfrd_hdf5

@@ -2,13 +2,15 @@
 !> readers such as meshio) open the results as a time series: one temporal collection, one
 !> grid per completed stage at time = the stage number, each a Quadrilateral topology over
 !> the mesh, with node attributes displacement and displacement_total (three components,
-!> z = 0) and cell attributes stress_centroid and principal (files written with --results
-!> full), stress_level, active, material and group. The XML holds no numbers of its own:
+!> z = 0) and cell attributes stress_centroid, principal (files written with --results
+!> full only), stress_level, active, material and group. The XML holds no numbers of its own:
 !> every DataItem points into the HDF5 file by a path relative to the XDMF file
 !> (docs/results.md). A lean file (the default) has no three-component copies nor
 !> displacement_total: the vectors are XDMF Functions, JOIN($0, $1, 0 * $0) of the two
 !> columns of the (nnode, 2) displacement taken as HyperSlabs, plus for displacement_total
-!> the columns of u_before_reset of the last RESET stage (each a Function $0 + $1).
+!> the columns of u_before_reset of the last RESET stage (each a Function $0 + $1), and
+!> (double-precision files) stress_centroid, a Function of the four Gauss points of
+!> stress_gauss taken as HyperSlabs divided by /mesh/gauss_points (function centroid).
 module cfrd_xdmf
     use cfrd_error, only: error_t, fatal_error, io_error
     use cfrd_model, only: model_t, stage_reset
@@ -88,6 +90,8 @@ contains
                           stage//'stress_centroid'), &
                 attribute('principal', 'Matrix', 'Cell', nelem//' 3', 'Float', fp, &
                           stage//'principal')
+            if (.not. all_fields .and. fp == '8' .and. stat == 0) &
+                write (unit, '(a)', iostat=stat, iomsg=msg) centroid(stage//'stress_gauss')
             if (stat == 0) write (unit, '(a)', iostat=stat, iomsg=msg) &
                 attribute('stress_level', 'Scalar', 'Cell', nelem, 'Float', fp, &
                           stage//'stress_level'), &
@@ -136,6 +140,32 @@ contains
             end if
             text = text//'          </DataItem>'//new_line('a')//'        </Attribute>'
         end function vector
+
+        !> A lean file's stress_centroid, (nelem, 4): the element's Gauss-point stresses
+        !> of the (nelem, 4, 4) dataset summed from zero in Gauss-point order, divided by
+        !> its Gauss-point count /mesh/gauss_points (the stage driver's
+        !> sum(stress(:, 1:ng, e))/ng: a joint's unused slots hold zeros, which add nothing;
+        !> the leading 0 + gives +0 where all four are -0, as the sum from zero does).
+        function centroid(dataset) result(text)
+            character(len=*), intent(in) :: dataset
+            character(len=:), allocatable :: text
+            integer :: k
+            text = '        <Attribute Name="stress_centroid" AttributeType="Matrix" '// &
+                   'Center="Cell">'//new_line('a')// &
+                   '          <DataItem ItemType="Function" '// &
+                   'Function="(0 + $0 + $1 + $2 + $3) / $4" Dimensions="'//nelem//' 4">'// &
+                   new_line('a')
+            do k = 0, 3
+                text = text//'          <DataItem ItemType="HyperSlab" Dimensions="'// &
+                       nelem//' 4" Type="HyperSlab">'//new_line('a')// &
+                       '          <DataItem Dimensions="3 3" Format="XML">0 '// &
+                       to_text(k)//' 0 1 1 1 '//nelem//' 1 4</DataItem>'//new_line('a')// &
+                       item(nelem//' 4 4', 'Float', fp, dataset)//new_line('a')// &
+                       '          </DataItem>'//new_line('a')
+            end do
+            text = text//item(nelem//' 4', 'Int', '4', '/mesh/gauss_points')// &
+                   new_line('a')//'          </DataItem>'//new_line('a')//'        </Attribute>'
+        end function centroid
 
         !> Column k of dataset + column k of shift, (nnode, 1).
         function sum(dataset, shift, k) result(item)
