@@ -12,7 +12,7 @@ module cfrd_contact_view
     use cfrd_kinds, only: dp
     use cfrd_model, only: model_t
     use cfrd_contact, only: contact_t, contact_open, arc_lengths
-    use cfrd_mortar, only: face_normal
+    use cfrd_mortar, only: face_normal, closest_on_face
     implicit none
     private
 
@@ -128,18 +128,14 @@ contains
             xi_best = 0.0_dp
             xi_free = 0.0_dp
             do f = 1, size(faces, 2)
-                associate (xa => x(:, contact%node(faces(1, f))), &
-                           xb => x(:, contact%node(faces(2, f))), p => x(:, view%node(j)))
-                    xi = dot_product(p - xa, xb - xa)/max(dot_product(xb - xa, xb - xa), &
-                                                          tiny(1.0_dp))
-                    dist = norm2(p - (xa + min(1.0_dp, max(0.0_dp, xi))*(xb - xa)))
-                    if (dist < best) then
-                        best = dist
-                        near = f
-                        xi_free = xi
-                        xi_best = min(1.0_dp, max(0.0_dp, xi))
-                    end if
-                end associate
+                call closest_on_face(x(:, view%node(j)), x(:, contact%node(faces(1, f))), &
+                                     x(:, contact%node(faces(2, f))), xi, dist)
+                if (dist < best) then
+                    best = dist
+                    near = f
+                    xi_free = xi
+                    xi_best = min(1.0_dp, max(0.0_dp, xi))
+                end if
             end do
             if (near == 0) return
             a = faces(1, near)

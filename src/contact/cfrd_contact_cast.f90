@@ -9,7 +9,7 @@
 module cfrd_contact_cast
     use cfrd_kinds, only: dp
     use cfrd_model, only: model_t
-    use cfrd_mortar, only: face_normal
+    use cfrd_mortar, only: face_normal, closest_on_face
     implicit none
     private
 
@@ -33,7 +33,7 @@ contains
         logical, intent(in) :: born(:)              !! (nnode) first active at this search
         real(dp), intent(inout) :: x(:, :), u(:, :) !! (2, nnode)
         logical, allocatable :: done(:)
-        real(dp) :: n_m(2), offset(2), best, dist
+        real(dp) :: n_m(2), offset(2), best, dist, xi
         integer :: km, j, k, ip, m
         allocate (done(size(born)), source=.false.)
         do km = 1, size(mseg, 2)
@@ -51,7 +51,7 @@ contains
                     if (.not. seg_on(k) .or. pair(seg(1, k)) /= ip) cycle
                     associate (xa => x(:, node(seg(1, k))), xb => x(:, node(seg(2, k))))
                         if (dot_product(face_normal(xa, xb), n_m) >= 0.0_dp) cycle
-                        dist = distance_to_face(x(:, m), xa, xb)
+                        call closest_on_face(x(:, m), xa, xb, xi, dist)
                         if (dist > 2.0_dp*norm2(xb - xa) .or. dist >= best) cycle
                         best = dist
                         offset = -dot_product(x(:, m) - xa, face_normal(xa, xb))* &
@@ -63,13 +63,4 @@ contains
             end do
         end do
     end subroutine cast_master_offsets
-
-    !> Distance from point p to the face from a to b.
-    pure real(dp) function distance_to_face(p, a, b)
-        real(dp), intent(in) :: p(2), a(2), b(2)
-        real(dp) :: xi
-        xi = dot_product(p - a, b - a)/max(dot_product(b - a, b - a), tiny(1.0_dp))
-        xi = min(1.0_dp, max(0.0_dp, xi))
-        distance_to_face = norm2(p - (a + xi*(b - a)))
-    end function distance_to_face
 end module cfrd_contact_cast

@@ -7,6 +7,7 @@ module cfrd_mortar
     private
 
     public :: face_normal, mortar_segment_pair, mortar_cell_points, project_node, dual_shape
+    public :: closest_on_face
     public :: cross2
 
     !> 3-point Gauss rule on [-1, 1]: exact for the quadratic integrands of straight segments.
@@ -116,4 +117,14 @@ contains
         distance = dot_product(xc + lambda*(xd - xc) - x, n)
         hit = .true.
     end subroutine project_node
+
+    !> The point of the face from a to b closest to p: `xi` locates p's projection on the
+    !> face's line (a at 0, b at 1; not clamped: below 0 or above 1 p lies beyond an end),
+    !> `distance` is |p - x(clamped xi)|.
+    pure subroutine closest_on_face(p, a, b, xi, distance)
+        real(dp), intent(in) :: p(2), a(2), b(2)
+        real(dp), intent(out) :: xi, distance
+        xi = dot_product(p - a, b - a)/max(dot_product(b - a, b - a), tiny(1.0_dp))
+        distance = norm2(p - (a + min(1.0_dp, max(0.0_dp, xi))*(b - a)))
+    end subroutine closest_on_face
 end module cfrd_mortar
