@@ -7,7 +7,7 @@ module test_materials_eb
     use cfrd_elastic, only: elastic_dmatrix
     use cfrd_duncan_eb, only: eb_params_t, eb_state_t, eb_tangent, eb_friction_angle, &
                               eb_failure_deviator, eb_initial_modulus, eb_unload_modulus, &
-                              eb_stress_state
+                              eb_stress_state, eb_level_state
     implicit none
     private
 
@@ -24,7 +24,8 @@ contains
                 new_unittest('tangent_is_isotropic_et_nut', test_tangent), &
                 new_unittest('poisson_bounds', test_bounds), &
                 new_unittest('floor_and_cap_keep_finite', test_floor_cap), &
-                new_unittest('unloading_transition', test_transition) &
+                new_unittest('unloading_transition', test_transition), &
+                new_unittest('level_state_closed_form', test_level_state) &
                 ]
     end subroutine collect_materials_eb
 
@@ -125,4 +126,44 @@ contains
         call eb_tangent(p, stress, ss/0.875_dp, d, st)
         call check(error, st%et, 0.5_dp*(et + eur), 'half-way: the mean', rel=1e-12_dp)
     end subroutine test_transition
+
+    !> eb_level_state against the closed form worked by hand: sxx = -300, syy = -700,
+    !> sxy = -150 kPa (tension positive) have the in-plane principal stresses
+    !> 500 -+ hypot(200, 150) = 250 and 750 kPa (compression positive), so with IIIB
+    !> (c = 0) phi = 51 - 13 log10(250/pa) degrees (eq. 20), (s1 - s3)_f =
+    !> 2 s3 sin phi / (1 - sin phi) (eq. 19), S = 500 / (s1 - s3)_f and
+    !> SS = S (250/pa)^(1/4). The same S gives eb_tangent's Et = Ei (1 - Rf S)^2 with
+    !> Ei = K pa (250/pa)^n and its Bt = Kb pa (250/pa)^m (loading, ss_max = 0); SS is
+    !> eb_stress_state's.
+    subroutine test_level_state(error)
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), parameter :: deg = acos(-1.0_dp)/180.0_dp
+        real(dp), parameter :: stress(4) = [-300.0_dp, -700.0_dp, -300.0_dp, -150.0_dp]
+        type(eb_params_t) :: p
+        type(eb_state_t) :: st
+        real(dp) :: d(4, 4), level, ss, phi, qf, s_hand, ss_hand, et_hand, bt_hand
+        p = iiib()
+        call eb_level_state(p, stress, level, ss)
+        phi = (51.0_dp - 13.0_dp*log10(250.0_dp/pa))*deg
+        qf = 2.0_dp*250.0_dp*sin(phi)/(1.0_dp - sin(phi))
+        s_hand = 500.0_dp/qf
+        ss_hand = s_hand*(250.0_dp/pa)**0.25_dp
+        call check(error, s_hand > 0.1_dp .and. s_hand < 0.9_dp, 'level below the cap')
+        if (allocated(error)) return
+        call check(error, level, s_hand, 'S against the closed form', rel=1e-13_dp)
+        if (allocated(error)) return
+        call check(error, ss, ss_hand, 'SS against the closed form', rel=1e-13_dp)
+        if (allocated(error)) return
+        call check(error, ss, eb_stress_state(p, stress), 'SS as eb_stress_state', &
+                   rel=1e-15_dp)
+        if (allocated(error)) return
+        call eb_tangent(p, stress, 0.0_dp, d, st)
+        call check(error, st%level, level, 'S as eb_tangent', rel=1e-15_dp)
+        if (allocated(error)) return
+        et_hand = 564.0_dp*pa*(250.0_dp/pa)**0.35_dp*(1.0_dp - 0.85_dp*s_hand)**2
+        bt_hand = 204.0_dp*pa*(250.0_dp/pa)**0.18_dp
+        call check(error, st%et, et_hand, 'Et = Ei (1 - Rf S)^2', rel=1e-12_dp)
+        if (allocated(error)) return
+        call check(error, st%bt, bt_hand, 'Bt = Kb pa (s3/pa)^m', rel=1e-13_dp)
+    end subroutine test_level_state
 end module test_materials_eb

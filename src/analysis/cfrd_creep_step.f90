@@ -8,7 +8,7 @@
 !> the tangent (no artificial excursion of a stress-dependent tangent).
 module cfrd_creep_step
     use cfrd_kinds, only: dp
-    use cfrd_model, only: model_t, material_t
+    use cfrd_model, only: model_t, material_t, law_duncan_eb
     use cfrd_assembly, only: element_box_t
     use cfrd_duncan_eb, only: eb_tangent, eb_state_t
     use cfrd_material_law, only: eb_parameters, material_tangent
@@ -102,9 +102,11 @@ contains
                     ! sigma3 and the stress level of the E-B law at this point
                     call eb_tangent(eb_parameters(mat, model%pa), stress(:, ig, e), &
                                     history(1, ig, e), d, law_state)
-                    ! the tangent that relaxes the stresses: bulk and shear moduli
-                    call material_tangent(mat, model%pa, stress(:, ig, e), strain(:, ig, e), &
-                                          history(:, ig, e), d)
+                    ! the tangent that relaxes the stresses: bulk and shear moduli (of an
+                    ! E-B material the matrix just taken, material_tangent's)
+                    if (mat%law /= law_duncan_eb) &
+                        call material_tangent(mat, model%pa, stress(:, ig, e), &
+                                              strain(:, ig, e), history(:, ig, e), d)
                     bulk = (d(1, 1) + 2.0_dp*d(1, 2))/3.0_dp
                     shear = d(4, 4)
                     if (wetting) then

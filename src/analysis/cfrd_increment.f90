@@ -121,6 +121,7 @@ contains
         real(dp), allocatable :: du(:, :), stress_end(:, :, :), stress_mid(:, :, :)
         real(dp) :: residual, load_norm, recent, t0, floor
         real(dp), allocatable :: rhs_stress(:, :, :), d_start(:, :, :, :), f_end(:, :)
+        real(dp), allocatable :: d_here(:, :, :, :)
         integer, allocatable :: substeps(:, :), grown(:, :)
         integer :: iteration
         type(contact_t), allocatable :: contact
@@ -152,12 +153,17 @@ contains
         ! (without contact: CHOLMOD's only).
         reuse = .not. state%has_contact .and. (model%solver == solver_newton .or. &
                 (model%solver == solver_midpoint .and. model%error_tolerance > 0.0_dp))
+        ! The tangents at the start stresses once (docs/performance.md (v)): the predictor's
+        ! matrix and the updates from the start stress take these. Not with creep, whose
+        ! updates start elsewhere (absent, each caller evaluates its own as before).
+        if (.not. (allocated(state%creep_stress) .or. all_linear(model, state%active))) &
+            d_here = start_tangents(model, library, state)
         if (reuse .and. system%start_kept) then
             call system%solver%restore()
             system%start_kept = .false.
         else
             call factorise_at(model, library, state, state%stress, system, result, context, &
-                              error, contact=contact)
+                              error, d_here, contact)
             if (allocated(error)) return
         end if
         ! With creep the start stresses less the stresses the increment's creep relaxes: the
@@ -177,11 +183,12 @@ contains
             ! (1987), accepted with local extrapolation as there (docs/theory.md section 9).
             call integrate_stress(model, library, state, du, stress_end, stress_mid, &
                                   model%solver == solver_euler .and. &
-                                  model%error_tolerance > 0.0_dp, creep_share=1.0_dp)
+                                  model%error_tolerance > 0.0_dp, creep_share=1.0_dp, &
+                                  d_start=d_here)
         else
             ! Midpoint: stresses half-way, the tangent there, and the increment again.
             call integrate_stress(model, library, state, 0.5_dp*du, stress_mid, stress_end, &
-                                  .false., creep_share=0.5_dp)
+                                  .false., creep_share=0.5_dp, d_start=d_here)
             if (reuse) call system%solver%keep(system%start_kept)
             call factorise_at(model, library, state, stress_mid, system, result, context, &
                               error, contact=contact)
@@ -199,7 +206,7 @@ contains
                                       substeps=substeps)
             else
                 call integrate_stress(model, library, state, du, stress_end, stress_mid, &
-                                      .true., creep_share=1.0_dp)
+                                      .true., creep_share=1.0_dp, d_start=d_here)
             end if
         end if
         if (model%solver == solver_newton .and. .not. allocated(substeps)) then

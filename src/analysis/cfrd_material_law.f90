@@ -8,8 +8,8 @@ module cfrd_material_law
     use cfrd_kinds, only: dp
     use cfrd_model, only: material_t, law_elastic, law_duncan_eb, law_goodman, law_pjoint
     use cfrd_elastic, only: elastic_dmatrix
-    use cfrd_duncan_eb, only: eb_params_t, eb_tangent, eb_stress_state, eb_state_t, &
-                              eb_moduli_gradient, eb_substeps
+    use cfrd_duncan_eb, only: eb_params_t, eb_tangent, eb_level_state, eb_moduli_gradient, &
+                              eb_substeps
     use cfrd_goodman, only: goodman_params_t, goodman_tangent, goodman_update, &
                             goodman_update_tangent
     use cfrd_pjoint, only: pjoint_params_t, pjoint_stress, pjoint_tangent
@@ -270,26 +270,26 @@ contains
     end function update_substeps
 
     !> Stress level S of a Gauss point (0 for laws without one).
-    pure real(dp) function stress_level(mat, pa, stress, history) result(level)
+    pure real(dp) function stress_level(mat, pa, stress) result(level)
         type(material_t), intent(in) :: mat
-        real(dp), intent(in) :: pa, stress(4), history(nhistory)
-        type(eb_state_t) :: state
-        real(dp) :: d(4, 4)
+        real(dp), intent(in) :: pa, stress(4)
+        real(dp) :: ss
         level = 0.0_dp
         if (mat%law /= law_duncan_eb) return
-        call eb_tangent(eb_parameters(mat, pa), stress, history(1), d, state)
-        level = state%level
+        call eb_level_state(eb_parameters(mat, pa), stress, level, ss)
     end function stress_level
 
     !> Raise the history maxima after an accepted increment. Without unloading (EFFECTS
     !> UNLOAD OFF) the past maximum of the stress state stays 0: the law always loads.
+    !> The level and the stress state from one evaluation of the law (eb_level_state).
     pure subroutine update_history(mat, pa, stress, history)
         type(material_t), intent(in) :: mat
         real(dp), intent(in) :: pa, stress(4)
         real(dp), intent(inout) :: history(nhistory)
+        real(dp) :: level, ss
         if (mat%law /= law_duncan_eb) return
-        if (mat%unload) history(1) = max(history(1), &
-                                         eb_stress_state(eb_parameters(mat, pa), stress))
-        history(2) = max(history(2), stress_level(mat, pa, stress, history))
+        call eb_level_state(eb_parameters(mat, pa), stress, level, ss)
+        if (mat%unload) history(1) = max(history(1), ss)
+        history(2) = max(history(2), level)
     end subroutine update_history
 end module cfrd_material_law

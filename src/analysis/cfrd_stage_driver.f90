@@ -492,8 +492,7 @@ contains
                 if (.not. state%active(e)) cycle
                 do ig = 1, library(mesh%kind(e))%element%gauss_points()
                     result%stress_level(e) = max(result%stress_level(e), stress_level( &
-                        model%materials(mesh%material(e)), model%pa, state%stress(:, ig, e), &
-                        state%history(:, ig, e)))
+                        model%materials(mesh%material(e)), model%pa, state%stress(:, ig, e)))
                 end do
             end do
             ! Near failure: stress level 0.95 or more (the law caps it at 0.99).

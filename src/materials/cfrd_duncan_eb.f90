@@ -11,6 +11,7 @@ module cfrd_duncan_eb
     public :: eb_params_t, eb_state_t, eb_tangent, eb_stress_state, eb_initial_modulus
     public :: eb_failure_deviator, eb_friction_angle, eb_principal, eb_unload_modulus
     public :: nu_t_max, eb_linear_moduli, eb_initial_moduli, eb_moduli_gradient, eb_substeps
+    public :: eb_level_state
 
     !> Upper bound of the tangent Poisson ratio: Bt <= Et / (3 (1 - 2 nu_t_max)).
     real(dp), parameter :: nu_t_max = 0.49_dp
@@ -115,11 +116,23 @@ contains
     pure real(dp) function eb_stress_state(p, stress) result(ss)
         type(eb_params_t), intent(in) :: p
         real(dp), intent(in) :: stress(4)
-        real(dp) :: sigma1, sigma3, level
+        real(dp) :: level
+        call eb_level_state(p, stress, level, ss)
+    end function eb_stress_state
+
+    !> The stress level S (capped, as eb_tangent takes it) and the stress-state function
+    !> SS = S (sigma3/pa)^(1/4) of one stress (tension positive), from one evaluation of
+    !> the principal stresses and the strength: what a point's history needs
+    !> (cfrd_material_law: update_history), without the tangent matrix.
+    pure subroutine eb_level_state(p, stress, level, ss)
+        type(eb_params_t), intent(in) :: p
+        real(dp), intent(in) :: stress(4)
+        real(dp), intent(out) :: level, ss
+        real(dp) :: sigma1, sigma3
         call eb_principal(stress, sigma1, sigma3)
         level = stress_level(p, sigma1, sigma3)
         ss = level*sqrt(sqrt(max(sigma3, p%sigma3_floor)/p%pa))
-    end function eb_stress_state
+    end subroutine eb_level_state
 
     !> How many sub-steps the midpoint update from `stress` to about `trial` (its forward
     !> Euler prediction, tension positive) needs so that no sub-step takes its half-way
