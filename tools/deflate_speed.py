@@ -62,6 +62,9 @@ def main(argv=None):
     args = ap.parse_args(argv)
     chunks = shuffled_chunks(args.results)
     size_in = sum(map(len, chunks))
+    if not chunks:
+        print(f"{args.results}: no chunk through the deflate filter (--compress 0?)")
+        return 1
     coders = {"zlib " + zlib.ZLIB_RUNTIME_VERSION: lambda c: len(zlib.compress(c, args.level)),
               "libdeflate": libdeflate_compressor(args.level)}
     print(f"{args.results}: {len(chunks)} chunks, {size_in / 1e6:.1f} MB through the filter, "
