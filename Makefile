@@ -8,8 +8,8 @@ SHELL := /bin/bash
 # mesh x2, 2 increments per layer, 5 m water steps; about 4 s). The x1 decks are the paper's
 # resolution and the fast regression decks (0.5 s, below the knee).
 DECK ?= inputs/tianshengqiao.dat
-APT_PACKAGES := gfortran gcc libsuitesparse-dev libhdf5-dev libdeflate-dev liblapack-dev libblas-dev \
-                pkg-config calculix-ccx libopenblas0-pthread
+APT_PACKAGES := gfortran gcc libsuitesparse-dev libhdf5-dev libdeflate-dev liblapack-dev \
+                libblas-dev pkg-config calculix-ccx libopenblas0-pthread
 PIP_PACKAGES := fpm numpy scipy matplotlib h5py tomli meshio
 # Only for make slurm-check (CI): a private one-node Slurm cluster.
 SLURM_APT_PACKAGES := slurmctld slurmd slurm-client munge
