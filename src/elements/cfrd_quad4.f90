@@ -8,7 +8,7 @@
 !> element in bending no longer locks in parasitic shear (the face slab).
 module cfrd_quad4
     use cfrd_kinds, only: dp
-    use cfrd_element, only: element_t
+    use cfrd_element, only: element_t, element_geometry_t
     use cfrd_shape, only: gauss_2x2, shape_fun, shape_der
     use cfrd_edge_load, only: face_pressure_forces
     implicit none
@@ -26,9 +26,10 @@ module cfrd_quad4
         procedure, nopass :: gauss_points
         procedure, nopass :: components
         procedure :: element_bmatrix
-        procedure :: stiffness
-        procedure :: strains
-        procedure :: internal_force
+        procedure :: geometry
+        procedure :: stiffness_geo
+        procedure :: strains_geo
+        procedure :: internal_force_geo
         procedure :: body_force
         procedure :: face_pressure
         procedure :: gauss_coordinates
@@ -120,47 +121,62 @@ contains
         end function tensor
     end subroutine element_bmatrix
 
-    pure subroutine stiffness(self, x, dmat, ke)
+    !> B and dV at the 2x2 Gauss points (element_bmatrix), computed once per element.
+    pure subroutine geometry(self, x, geo)
         class(quad4_t), intent(in) :: self
-        real(dp), intent(in) :: x(:, :), dmat(:, :, :)
+        real(dp), intent(in) :: x(:, :)
+        type(element_geometry_t), intent(out) :: geo
+        real(dp) :: points(2, ngauss), weights(ngauss)
+        integer :: ig
+        call gauss_2x2(points, weights)
+        do ig = 1, ngauss
+            call self%element_bmatrix(x, points(1, ig), points(2, ig), geo%bee(:, :, ig), &
+                                      geo%dv(ig))
+        end do
+    end subroutine geometry
+
+    pure subroutine stiffness_geo(self, geo, dmat, ke)
+        class(quad4_t), intent(in) :: self
+        type(element_geometry_t), intent(in) :: geo
+        real(dp), intent(in) :: dmat(:, :, :)
         real(dp), intent(out) :: ke(:, :)
-        real(dp) :: points(2, ngauss), weights(ngauss), bee(ncomp, ndof), dv, db(ncomp, ndof)
+        real(dp) :: points(2, ngauss), weights(ngauss), db(ncomp, ndof)
         integer :: ig
         call gauss_2x2(points, weights)
         ke(1:ndof, 1:ndof) = 0.0_dp
         do ig = 1, ngauss
-            call self%element_bmatrix(x, points(1, ig), points(2, ig), bee, dv)
-            db = matmul(dmat(:, :, ig), bee)*(dv*weights(ig))
-            ke(1:ndof, 1:ndof) = ke(1:ndof, 1:ndof) + matmul(transpose(bee), db)
+            associate (bee => geo%bee(:, :, ig))
+                db = matmul(dmat(:, :, ig), bee)*(geo%dv(ig)*weights(ig))
+                ke(1:ndof, 1:ndof) = ke(1:ndof, 1:ndof) + matmul(transpose(bee), db)
+            end associate
         end do
-    end subroutine stiffness
+    end subroutine stiffness_geo
 
-    pure subroutine strains(self, x, u, strain)
+    pure subroutine strains_geo(self, geo, u, strain)
         class(quad4_t), intent(in) :: self
-        real(dp), intent(in) :: x(:, :), u(:)
+        type(element_geometry_t), intent(in) :: geo
+        real(dp), intent(in) :: u(:)
         real(dp), intent(out) :: strain(:, :)
-        real(dp) :: points(2, ngauss), weights(ngauss), bee(ncomp, ndof), dv
         integer :: ig
-        call gauss_2x2(points, weights)
         do ig = 1, ngauss
-            call self%element_bmatrix(x, points(1, ig), points(2, ig), bee, dv)
-            strain(:, ig) = matmul(bee, u(1:ndof))
+            strain(:, ig) = matmul(geo%bee(:, :, ig), u(1:ndof))
         end do
-    end subroutine strains
+    end subroutine strains_geo
 
-    pure subroutine internal_force(self, x, stress, fe)
+    pure subroutine internal_force_geo(self, geo, stress, fe)
         class(quad4_t), intent(in) :: self
-        real(dp), intent(in) :: x(:, :), stress(:, :)
+        type(element_geometry_t), intent(in) :: geo
+        real(dp), intent(in) :: stress(:, :)
         real(dp), intent(out) :: fe(:)
-        real(dp) :: points(2, ngauss), weights(ngauss), bee(ncomp, ndof), dv
+        real(dp) :: points(2, ngauss), weights(ngauss)
         integer :: ig
         call gauss_2x2(points, weights)
         fe(1:ndof) = 0.0_dp
         do ig = 1, ngauss
-            call self%element_bmatrix(x, points(1, ig), points(2, ig), bee, dv)
-            fe(1:ndof) = fe(1:ndof) + matmul(transpose(bee), stress(:, ig))*(dv*weights(ig))
+            fe(1:ndof) = fe(1:ndof) + matmul(transpose(geo%bee(:, :, ig)), stress(:, ig))* &
+                         (geo%dv(ig)*weights(ig))
         end do
-    end subroutine internal_force
+    end subroutine internal_force_geo
 
     pure subroutine body_force(self, x, b, fe)
         class(quad4_t), intent(in) :: self
