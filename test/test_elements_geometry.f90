@@ -38,7 +38,8 @@ contains
                 new_unittest('q4s_rectangle_shear_from_centre', test_q4s_rectangle), &
                 new_unittest('distorted_quad_and_q4s_as_recomputed', test_distorted), &
                 new_unittest('joint_frame_by_hand', test_joint), &
-                new_unittest('make_elements_records', test_library) &
+                new_unittest('make_elements_records', test_library), &
+                new_unittest('stiffness_kernel_full_product', test_kernel) &
                 ]
     end subroutine collect_elements_geometry
 
@@ -262,4 +263,37 @@ contains
                    all(library(elem_joint_gauss)%geometry(1)%dv == geo%dv), &
                    'library joint record = joint geometry of its nodes')
     end subroutine test_library
+
+    !> The stiffness of a standard quad, taken over B's nonzero entries, against the full
+    !> product sum_g B_g^T (D_g B_g dV_g) of the same stored B (matmul), plane strain and
+    !> axisymmetric, with a full (unsymmetric) D different at each point.
+    subroutine test_kernel(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(quad4_t) :: quads(2)
+        type(element_geometry_t) :: geo
+        real(dp) :: dmat(4, 4, 4), ke(8, 8), full(8, 8), x(2, 4)
+        integer :: q, ig, i, j
+        quads = [quad4_t(), quad4_t(axisymmetric=.true.)]
+        do ig = 1, 4
+            do j = 1, 4
+                do i = 1, 4
+                    dmat(i, j, ig) = 1.0e4_dp*(1.0_dp + merge(3.0_dp, 0.0_dp, i == j)) + &
+                                     37.0_dp*i - 11.0_dp*j + 5.0_dp*ig
+                end do
+            end do
+        end do
+        x = x_distorted
+        x(1, :) = x(1, :) + 1.0_dp
+        do q = 1, size(quads)
+            call quads(q)%geometry(x, geo)
+            call quads(q)%stiffness(geo, dmat, ke)
+            full = 0.0_dp
+            do ig = 1, 4
+                full = full + matmul(transpose(geo%bee(:, :, ig)), &
+                                     matmul(dmat(:, :, ig), geo%bee(:, :, ig))*geo%dv(ig))
+            end do
+            call check_matrix(error, ke, full, 'K over the nonzeros = full product')
+            if (allocated(error)) return
+        end do
+    end subroutine test_kernel
 end module test_elements_geometry

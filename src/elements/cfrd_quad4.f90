@@ -135,19 +135,58 @@ contains
         end do
     end subroutine geometry
 
+    !> ke = sum over points of B^T (D B dV w). A standard quad's B has, for node k, the
+    !> columns (N_k,x, 0, h_k, N_k,y) and (0, N_k,y, 0, N_k,x) (h_k = N_k / r axisymmetric,
+    !> else 0): the products are taken over those entries only, in the order of the full
+    !> product (terms in B's zeros add exact zeros). Q4S's B is full: the full product.
     pure subroutine stiffness_geo(self, geo, dmat, ke)
         class(quad4_t), intent(in) :: self
         type(element_geometry_t), intent(in) :: geo
         real(dp), intent(in) :: dmat(:, :, :)
         real(dp), intent(out) :: ke(:, :)
-        real(dp) :: points(2, ngauss), weights(ngauss), db(ncomp, ndof)
-        integer :: ig
+        real(dp) :: points(2, ngauss), weights(ngauss), db(ncomp, ndof), s, t
+        real(dp) :: nx(nnode), ny(nnode), h(nnode)
+        integer :: ig, i, j, k
         call gauss_2x2(points, weights)
         ke(1:ndof, 1:ndof) = 0.0_dp
         do ig = 1, ngauss
-            associate (bee => geo%bee(:, :, ig))
-                db = matmul(dmat(:, :, ig), bee)*(geo%dv(ig)*weights(ig))
-                ke(1:ndof, 1:ndof) = ke(1:ndof, 1:ndof) + matmul(transpose(bee), db)
+            associate (bee => geo%bee(:, :, ig), d => dmat(:, :, ig))
+                if (self%assumed_shear) then
+                    db = matmul(d, bee)*(geo%dv(ig)*weights(ig))
+                    ke(1:ndof, 1:ndof) = ke(1:ndof, 1:ndof) + matmul(transpose(bee), db)
+                    cycle
+                end if
+                s = geo%dv(ig)*weights(ig)
+                nx = bee(1, 1:ndof:2)
+                ny = bee(2, 2:ndof:2)
+                h = bee(3, 1:ndof:2)
+                ! Each sum from zero, term by term, as the full product takes it.
+                do k = 1, nnode
+                    do i = 1, ncomp
+                        t = 0.0_dp
+                        t = t + d(i, 1)*nx(k)
+                        t = t + d(i, 3)*h(k)
+                        t = t + d(i, 4)*ny(k)
+                        db(i, 2*k - 1) = t*s
+                        t = 0.0_dp
+                        t = t + d(i, 2)*ny(k)
+                        t = t + d(i, 4)*nx(k)
+                        db(i, 2*k) = t*s
+                    end do
+                end do
+                do j = 1, ndof
+                    do k = 1, nnode
+                        t = 0.0_dp
+                        t = t + nx(k)*db(1, j)
+                        t = t + h(k)*db(3, j)
+                        t = t + ny(k)*db(4, j)
+                        ke(2*k - 1, j) = ke(2*k - 1, j) + t
+                        t = 0.0_dp
+                        t = t + ny(k)*db(2, j)
+                        t = t + nx(k)*db(4, j)
+                        ke(2*k, j) = ke(2*k, j) + t
+                    end do
+                end do
             end associate
         end do
     end subroutine stiffness_geo
