@@ -39,7 +39,8 @@ contains
                 new_unittest('distorted_quad_and_q4s_as_recomputed', test_distorted), &
                 new_unittest('joint_frame_by_hand', test_joint), &
                 new_unittest('make_elements_records', test_library), &
-                new_unittest('stiffness_kernel_full_product', test_kernel) &
+                new_unittest('stiffness_kernel_full_product', test_kernel), &
+                new_unittest('strains_kernel_full_product', test_strains_kernel) &
                 ]
     end subroutine collect_elements_geometry
 
@@ -296,4 +297,27 @@ contains
             if (allocated(error)) return
         end do
     end subroutine test_kernel
+
+    !> The strains of a standard quad, taken over B's nonzero entries, against the full
+    !> product B_g u of the same stored B (matmul), plane strain and axisymmetric.
+    subroutine test_strains_kernel(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(quad4_t) :: quads(2)
+        type(element_geometry_t) :: geo
+        real(dp) :: u(8), strain(4, 4), full(4, 4), x(2, 4)
+        integer :: q, ig, j
+        quads = [quad4_t(), quad4_t(axisymmetric=.true.)]
+        u = [(0.01_dp*j - 0.003_dp*j*j, j=1, 8)]
+        x = x_distorted
+        x(1, :) = x(1, :) + 1.0_dp
+        do q = 1, size(quads)
+            call quads(q)%geometry(x, geo)
+            call quads(q)%strains(geo, u, strain)
+            do ig = 1, 4
+                full(:, ig) = matmul(geo%bee(:, :, ig), u)
+            end do
+            call check_matrix(error, strain, full, 'strains over the nonzeros = B u')
+            if (allocated(error)) return
+        end do
+    end subroutine test_strains_kernel
 end module test_elements_geometry

@@ -191,14 +191,34 @@ contains
         end do
     end subroutine stiffness_geo
 
+    !> strain = B u at each point; a standard quad over B's nonzero entries (stiffness_geo),
+    !> each sum from zero in the order of the full product; Q4S the full product.
     pure subroutine strains_geo(self, geo, u, strain)
         class(quad4_t), intent(in) :: self
         type(element_geometry_t), intent(in) :: geo
         real(dp), intent(in) :: u(:)
         real(dp), intent(out) :: strain(:, :)
-        integer :: ig
+        real(dp) :: txx, tyy, tzz, txy
+        integer :: ig, k
         do ig = 1, ngauss
-            strain(:, ig) = matmul(geo%bee(:, :, ig), u(1:ndof))
+            associate (bee => geo%bee(:, :, ig))
+                if (self%assumed_shear) then
+                    strain(:, ig) = matmul(bee, u(1:ndof))
+                    cycle
+                end if
+                txx = 0.0_dp
+                tyy = 0.0_dp
+                tzz = 0.0_dp
+                txy = 0.0_dp
+                do k = 1, nnode
+                    txx = txx + bee(1, 2*k - 1)*u(2*k - 1)
+                    tyy = tyy + bee(2, 2*k)*u(2*k)
+                    tzz = tzz + bee(3, 2*k - 1)*u(2*k - 1)
+                    txy = txy + bee(4, 2*k - 1)*u(2*k - 1)
+                    txy = txy + bee(4, 2*k)*u(2*k)
+                end do
+                strain(1:ncomp, ig) = [txx, tyy, tzz, txy]
+            end associate
         end do
     end subroutine strains_geo
 
