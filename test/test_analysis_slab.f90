@@ -15,6 +15,7 @@ module test_analysis_slab
     use cfrd_beam_foundation, only: vesic_modulus, decay_rate, decay_radius
     use cfrd_stage_driver, only: run_analysis
     use cfrd_test_models, only: new_model, elastic_material, linear_joint
+    use test_analysis_slab_clamp, only: test_clamped_slab
     implicit none
     private
 
@@ -29,7 +30,8 @@ contains
         tests = [new_unittest('hetenyi_point_load', test_hetenyi), &
                  new_unittest('extremes_without_singular_points', test_extremes), &
                  new_unittest('vesic_worked_example', test_vesic), &
-                 new_unittest('skewed_columns_are_sections', test_skewed_columns)]
+                 new_unittest('skewed_columns_are_sections', test_skewed_columns), &
+                 new_unittest('clamped_slab_moment', test_clamped_slab)]
     end subroutine collect_analysis_slab
 
     !> A slab 28 m long, h = 0.6 m thick in two layers of 56 Q4S quads each (0.5 m), on its
