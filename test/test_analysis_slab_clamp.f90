@@ -22,7 +22,8 @@ module test_analysis_slab_clamp
     ! The slab of the Tianshengqiao-I decks at the toe (h, E, nu of its concrete) on the
     ! foundation modulus of its cushion (Vesic's k of the bonded x8 deck, section 11.2).
     real(dp), parameter :: h = 0.91_dp, e = 3.0e7_dp, nu = 0.2_dp, k = 6.3e4_dp, &
-                           q = 1000.0_dp, length = 63.0_dp, skew = 1.4_dp
+                           q = 1000.0_dp, length = 63.0_dp, skew = 1.4_dp, &
+                           pi = 3.14159265358979323846_dp
 
 contains
 
@@ -45,18 +46,20 @@ contains
         real(dp), parameter :: lengths(3) = [7.0_dp, 3.5_dp, 1.75_dp]
         character(len=*), parameter :: names(4) = [character(len=16) :: 'Q4 rectangles', &
                                         'Q4 skewed', 'Q4S rectangles', 'Q4S skewed']
-        real(dp) :: worst, m_at(4)
+        real(dp) :: worst, m_at(4), shape(3)
         integer :: i, v
         write (*, '(a)') '    clamped slab on a Winkler foundation, M against Hetenyi''s:'
-        write (*, '(a)') '    element  a (m)  worst |M - M_H| / M_H(0)   M at 5 / 10 / 15 / 20 m'// &
-            ' (MN m/m)'
-        write (*, '(a,25x,4f8.3)') '    Hetenyi          ', (reference(5.0_dp*i)/1e3_dp, i=1, 4)
+        write (*, '(a)') '    element  a (m)  worst |M - M_H| / M_H(0)   M at 5 / 10 / 15 / '// &
+            '20 m (MN m/m)   first zero (m), trough (MN m/m) at (m)'
+        write (*, '(a,25x,4f8.3,f10.2,f8.3,f6.2)') '    Hetenyi          ', &
+            (reference(5.0_dp*i)/1e3_dp, i=1, 4), pi/(4*lambda()), &
+            reference(pi/(2*lambda()))/1e3_dp, pi/(2*lambda())
         do v = 1, 4
             do i = 1, 3
-                call clamped_slab(lengths(i), v > 2, mod(v, 2) == 0, worst, m_at, error)
+                call clamped_slab(lengths(i), v > 2, mod(v, 2) == 0, worst, m_at, shape, error)
                 if (allocated(error)) return
-                write (*, '(4x,a16,f6.2,f14.1,a,8x,4f8.3)') names(v), lengths(i), 100*worst, &
-                    ' %', m_at/1e3_dp
+                write (*, '(4x,a16,f6.2,f14.1,a,8x,4f8.3,f10.2,f8.3,f6.2)') names(v), &
+                    lengths(i), 100*worst, ' %', m_at/1e3_dp, shape(1), shape(2)/1e3_dp, shape(3)
                 if (v == 3 .and. i == 3) then
                     call check(error, worst <= 0.05_dp, 'Q4S slab of 1.75 m elements: M '// &
                                'within 5 % of M(0) of Hetenyi''s clamped beam')
@@ -83,11 +86,12 @@ contains
     !> the nodes of its first cross line fixed; returns the worst |M - M_H| / M_H(0) over
     !> the sections whose centre lies beyond h from the clamp, and M at 5, 10, 15, 20 m
     !> (linear between section centres; x of a section: its centre along the slab, less the
-    !> clamp's mean position).
-    subroutine clamped_slab(a, shear, skewed, worst, m_at, error)
+    !> clamp's mean position); shape: M's first zero (linear between sections, -1: none),
+    !> its least value and where.
+    subroutine clamped_slab(a, shear, skewed, worst, m_at, shape, error)
         real(dp), intent(in) :: a
         logical, intent(in) :: shear, skewed
-        real(dp), intent(out) :: worst, m_at(4)
+        real(dp), intent(out) :: worst, m_at(4), shape(3)
         type(error_t), allocatable, intent(out) :: error
         type(model_t) :: model
         type(results_t) :: results
@@ -154,6 +158,15 @@ contains
             do i = 1, 4
                 m_at(i) = interpolate(x, r%moment, 5.0_dp*i)
             end do
+            shape(1) = -1.0_dp
+            do i = 1, size(x) - 1
+                if (r%moment(i) > 0.0_dp .and. r%moment(i + 1) <= 0.0_dp) then
+                    shape(1) = x(i) + (x(i + 1) - x(i))*r%moment(i)/(r%moment(i) - r%moment(i + 1))
+                    exit
+                end if
+            end do
+            i = minloc(r%moment, 1)
+            shape(2:3) = [r%moment(i), x(i)]
         end associate
     contains
         pure integer function node(i, j)
