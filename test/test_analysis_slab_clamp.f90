@@ -58,7 +58,8 @@ contains
             reference(pi/(2*lambda()))/1e3_dp, pi/(2*lambda())
         do v = 1, 4
             do i = 1, 3
-                call clamped_slab(lengths(i), layers(i), v > 2, mod(v, 2) == 0, worst, m_at, shape, error)
+                call clamped_slab(lengths(i), layers(i), v > 2, mod(v, 2) == 0, worst, m_at, &
+                                  shape, error)
                 if (allocated(error)) return
                 write (*, '(4x,a16,f6.2,f14.1,a,8x,4f8.3,f10.2,f8.3,f6.2)') names(v), &
                     lengths(i), 100*worst, ' %', m_at/1e3_dp, shape(1), shape(2)/1e3_dp, shape(3)
