@@ -18,7 +18,7 @@ module test_analysis_slab_clamp
     implicit none
     private
 
-    public :: test_clamped_slab
+    public :: test_clamped_slab, slab_on_winkler
 
     ! The slab of the Tianshengqiao-I decks at the toe (h, E, nu of its concrete) on the
     ! foundation modulus of its cushion (Vesic's k of the bonded x8 deck, section 11.2).
@@ -100,12 +100,11 @@ contains
         type(model_t) :: model
         type(results_t) :: results
         real(dp), allocatable :: xy(:, :), x(:)
-        integer, allocatable :: conn(:, :), mat(:)
-        integer :: nx, i, j, el
+        integer :: nx, i, j
         real(dp) :: shift
         nx = nint(length/a)
         shift = merge(skew, 0.0_dp, skewed)
-        allocate (xy(2, (nl + 2)*(nx + 1)), conn(4, (nl + 1)*nx), mat((nl + 1)*nx))
+        allocate (xy(2, (nl + 2)*(nx + 1)))
         do j = 0, nl
             do i = 0, nx
                 xy(:, node(i, j)) = [a*i + shift*h*j/nl, h*j/nl]
@@ -114,33 +113,8 @@ contains
         do i = 0, nx
             xy(:, node(i, nl + 1)) = [a*i, 0.0_dp]
         end do
-        el = 0
-        do j = 0, nl - 1
-            do i = 0, nx - 1
-                el = el + 1
-                conn(:, el) = [node(i, j), node(i + 1, j), node(i + 1, j + 1), node(i, j + 1)]
-                mat(el) = 1
-            end do
-        end do
-        do i = 0, nx - 1
-            el = el + 1
-            conn(:, el) = [node(i, nl + 1), node(i + 1, nl + 1), node(i + 1, 0), node(i, 0)]
-            mat(el) = 2
-        end do
-        call new_model(model, xy, conn, mat, [elastic_material(e, nu, 0.0_dp), &
-                                              linear_joint(k, 1.0e-3_dp*k)])
-        model%mesh%kind(1:nl*nx) = merge(elem_quad4_shear, elem_quad4, shear)
-        model%mesh%kind(nl*nx + 1:) = elem_joint_gauss
-        model%mesh%group(1:nl*nx) = 1
-        model%mesh%group_name = [character(len=10) :: 'SLAB']
-        model%slab_groups = [1]
-        allocate (model%interfaces(nx))
-        do i = 1, nx
-            model%interfaces(i) = interface_element_t(element=nl*nx + i, line=1, &
-                                                      method=method_joint)
-        end do
-        allocate (model%gauges(0), model%wet_faces(0))
-        model%fixed(:, [(node(i, nl + 1), i=0, nx)]) = .true.
+        call slab_on_winkler(model, xy, nx, nl, e, nu, k, &
+                             merge(elem_quad4_shear, elem_quad4, shear))
         model%fixed(:, [(node(0, j), j=0, nl)]) = .true.
         ! q on the top face: consistent nodal forces a q (a q / 2 at the ends), -y.
         associate (f => model%load_sets(1)%nodal_force)
@@ -178,6 +152,49 @@ contains
             node = j*(nx + 1) + i + 1
         end function node
     end subroutine clamped_slab
+
+    !> A slab of nx columns of nl layers of elements of the given kind (group SLAB, concrete
+    !> e, nu) on a Winkler foundation of Gauss joints (kn = k, ks = 1e-3 k) over a fixed base
+    !> row, for the slab tests. xy holds the nodes, row j = 0 .. nl of the slab (0 on the
+    !> foundation) then the base row nl + 1, nx + 1 nodes a row, node (i, j) = j (nx + 1) +
+    !> i + 1; elements: the slab's layers from the foundation up, then the joints.
+    subroutine slab_on_winkler(model, xy, nx, nl, e, nu, k, kind)
+        type(model_t), intent(out) :: model
+        real(dp), intent(in) :: xy(:, :), e, nu, k
+        integer, intent(in) :: nx, nl, kind
+        integer :: conn(4, (nl + 1)*nx), mat((nl + 1)*nx), i, j, el
+        el = 0
+        do j = 0, nl
+            do i = 0, nx - 1
+                el = el + 1
+                if (j < nl) then
+                    conn(:, el) = [node(i, j), node(i + 1, j), node(i + 1, j + 1), node(i, j + 1)]
+                else
+                    conn(:, el) = [node(i, j + 1), node(i + 1, j + 1), node(i + 1, 0), node(i, 0)]
+                end if
+                mat(el) = merge(2, 1, j == nl)
+            end do
+        end do
+        call new_model(model, xy, conn, mat, [elastic_material(e, nu, 0.0_dp), &
+                                              linear_joint(k, 1.0e-3_dp*k)])
+        model%mesh%kind(1:nl*nx) = kind
+        model%mesh%kind(nl*nx + 1:) = elem_joint_gauss
+        model%mesh%group(1:nl*nx) = 1
+        model%mesh%group_name = [character(len=10) :: 'SLAB']
+        model%slab_groups = [1]
+        allocate (model%interfaces(nx))
+        do i = 1, nx
+            model%interfaces(i) = interface_element_t(element=nl*nx + i, line=1, &
+                                                      method=method_joint)
+        end do
+        allocate (model%gauges(0), model%wet_faces(0))
+        model%fixed(:, [(node(i, nl + 1), i=0, nx)]) = .true.
+    contains
+        pure integer function node(i, j)
+            integer, intent(in) :: i, j
+            node = j*(nx + 1) + i + 1
+        end function node
+    end subroutine slab_on_winkler
 
     !> The value at s of the piecewise linear function through (x(i), v(i)), x ascending.
     pure real(dp) function interpolate(x, v, s)
