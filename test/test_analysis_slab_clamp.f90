@@ -107,19 +107,19 @@ contains
         allocate (xy(2, (nl + 2)*(nx + 1)))
         do j = 0, nl
             do i = 0, nx
-                xy(:, node(i, j)) = [a*i + shift*h*j/nl, h*j/nl]
+                xy(:, slab_node(i, j, nx)) = [a*i + shift*h*j/nl, h*j/nl]
             end do
         end do
         do i = 0, nx
-            xy(:, node(i, nl + 1)) = [a*i, 0.0_dp]
+            xy(:, slab_node(i, nl + 1, nx)) = [a*i, 0.0_dp]
         end do
         call slab_on_winkler(model, xy, nx, nl, e, nu, k, &
                              merge(elem_quad4_shear, elem_quad4, shear))
-        model%fixed(:, [(node(0, j), j=0, nl)]) = .true.
+        model%fixed(:, [(slab_node(0, j, nx), j=0, nl)]) = .true.
         ! q on the top face: consistent nodal forces a q (a q / 2 at the ends), -y.
         associate (f => model%load_sets(1)%nodal_force)
             do i = 0, nx
-                f(2, node(i, nl)) = -q*a*merge(0.5_dp, 1.0_dp, i == 0 .or. i == nx)
+                f(2, slab_node(i, nl, nx)) = -q*a*merge(0.5_dp, 1.0_dp, i == 0 .or. i == nx)
             end do
         end associate
         model%stages(1) = stage_t(kind=stage_load, load_set=1, increments=1, label='CLAMP')
@@ -127,7 +127,7 @@ contains
         if (allocated(error)) return
         associate (r => results%stages(1)%slab)
             ! Distance along the slab (x) from the clamp's cross line at its middle node.
-            x = r%section_x - xy(1, node(0, nl/2))
+            x = r%section_x - xy(1, slab_node(0, nl/2, nx))
             worst = 0.0_dp
             do i = 1, size(x)
                 if (x(i) > h) worst = max(worst, abs(r%moment(i) - reference(x(i))))
@@ -146,11 +146,6 @@ contains
             i = minloc(r%moment, 1)
             shape(2:3) = [r%moment(i), x(i)]
         end associate
-    contains
-        pure integer function node(i, j)
-            integer, intent(in) :: i, j
-            node = j*(nx + 1) + i + 1
-        end function node
     end subroutine clamped_slab
 
     !> A slab of nx columns of nl layers of elements of the given kind (group SLAB, concrete
@@ -162,16 +157,16 @@ contains
         type(model_t), intent(out) :: model
         real(dp), intent(in) :: xy(:, :), e, nu, k
         integer, intent(in) :: nx, nl, kind
-        integer :: conn(4, (nl + 1)*nx), mat((nl + 1)*nx), i, j, el
+        integer :: conn(4, (nl + 1)*nx), mat((nl + 1)*nx), i, j, el, lower, upper
         el = 0
         do j = 0, nl
             do i = 0, nx - 1
                 el = el + 1
-                if (j < nl) then
-                    conn(:, el) = [node(i, j), node(i + 1, j), node(i + 1, j + 1), node(i, j + 1)]
-                else
-                    conn(:, el) = [node(i, j + 1), node(i + 1, j + 1), node(i + 1, 0), node(i, 0)]
-                end if
+                ! A layer's element, or (j = nl) the joint from the base row to the slab's.
+                lower = merge(nl + 1, j, j == nl)
+                upper = merge(0, j + 1, j == nl)
+                conn(:, el) = [slab_node(i, lower, nx), slab_node(i + 1, lower, nx), &
+                               slab_node(i + 1, upper, nx), slab_node(i, upper, nx)]
                 mat(el) = merge(2, 1, j == nl)
             end do
         end do
@@ -188,13 +183,14 @@ contains
                                                       method=method_joint)
         end do
         allocate (model%gauges(0), model%wet_faces(0))
-        model%fixed(:, [(node(i, nl + 1), i=0, nx)]) = .true.
-    contains
-        pure integer function node(i, j)
-            integer, intent(in) :: i, j
-            node = j*(nx + 1) + i + 1
-        end function node
+        model%fixed(:, [(slab_node(i, nl + 1, nx), i=0, nx)]) = .true.
     end subroutine slab_on_winkler
+
+    !> Node (i, j) of slab_on_winkler's mesh of nx columns: j (nx + 1) + i + 1.
+    pure integer function slab_node(i, j, nx)
+        integer, intent(in) :: i, j, nx
+        slab_node = j*(nx + 1) + i + 1
+    end function slab_node
 
     !> The value at s of the piecewise linear function through (x(i), v(i)), x ascending.
     pure real(dp) function interpolate(x, v, s)
