@@ -8,8 +8,8 @@ SHELL := /bin/bash
 # mesh x2, 2 increments per layer, 5 m water steps; about 4 s). The x1 decks are the paper's
 # resolution and the fast regression decks (0.5 s, below the knee).
 DECK ?= inputs/tianshengqiao.dat
-APT_PACKAGES := gfortran gcc libsuitesparse-dev libhdf5-dev liblapack-dev libblas-dev \
-                pkg-config calculix-ccx libopenblas0-pthread
+APT_PACKAGES := gfortran gcc libsuitesparse-dev libhdf5-dev libdeflate-dev liblapack-dev \
+                libblas-dev pkg-config calculix-ccx libopenblas0-pthread
 PIP_PACKAGES := fpm numpy scipy matplotlib h5py tomli meshio
 # Only for make slurm-check (CI): a private one-node Slurm cluster.
 SLURM_APT_PACKAGES := slurmctld slurmd slurm-client munge
@@ -33,6 +33,10 @@ fpm = FPM_LDFLAGS="$(4) $(HDF5_LDIRS) $(OPENMP_FLAGS)" fpm $(1) --profile $(2) -
 # folder stays empty and the shared libraries are linked as before.
 HDF5_LIBDIR = $(patsubst -L%,%,$(firstword $(HDF5_LDIRS)))
 STATIC_HDF5 = build/static-hdf5
+# libdeflate (HDF5's deflate filter computed by libdeflate, src/io/cfrd_h5_deflate.c) is
+# linked from its archive into the release program the same way (one shared object fewer
+# to load); the debug build and the tests link libdeflate.so.
+DEFLATE_ARCHIVE = $(shell gcc -print-file-name=libdeflate.a 2>/dev/null)
 
 DECKS ?= $(wildcard inputs/*.dat)
 OUT ?= batch-results
@@ -51,6 +55,7 @@ build: deps
 	@if [ -f "$(HDF5_LIBDIR)/libhdf5.a" ] && [ -f "$(HDF5_LIBDIR)/libhdf5_fortran.a" ]; then \
 	  ln -sf "$(HDF5_LIBDIR)/libhdf5.a" $(STATIC_HDF5)/libhdf5_serial.a; \
 	  ln -sf "$(HDF5_LIBDIR)/libhdf5_fortran.a" $(STATIC_HDF5)/libhdf5_serial_fortran.a; fi
+	@if [ -f "$(DEFLATE_ARCHIVE)" ]; then ln -sf "$(DEFLATE_ARCHIVE)" $(STATIC_HDF5)/libdeflate.a; fi
 	@$(call fpm,install,release,$(RELEASE_FLAGS),-L$(CURDIR)/$(STATIC_HDF5)) --prefix "$(CURDIR)" --bindir bin \
 	  >build/release.log 2>&1 || { cat build/release.log; exit 1; }
 

@@ -8,6 +8,7 @@ program cfrd_tests
     use test_solver_sparse, only: collect_solver_sparse
     use test_solver_cholmod, only: collect_solver_cholmod
     use test_elements_quad4, only: collect_elements_quad4
+    use test_elements_geometry, only: collect_elements_geometry
     use test_analysis_verification, only: collect_analysis_verification
     use test_io_results, only: collect_io_results
     use test_analysis_rockfill, only: collect_analysis_rockfill
@@ -54,6 +55,10 @@ program cfrd_tests
     if (wanted('elements_quad4')) then
         call collect_elements_quad4(tests)
         call run_suite('elements_quad4', tests, only_test, npass, nfail)
+    end if
+    if (wanted('elements_geometry')) then
+        call collect_elements_geometry(tests)
+        call run_suite('elements_geometry', tests, only_test, npass, nfail)
     end if
     if (wanted('analysis_verification')) then
         call collect_analysis_verification(tests)

@@ -7,14 +7,14 @@ module test_analysis_slab
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t
     use cfrd_testing, only: unittest_t, new_unittest, check, fail
-    use cfrd_model, only: model_t, stage_t, stage_load, interface_element_t, &
-                          elem_quad4_shear, elem_joint_gauss, method_joint
+    use cfrd_model, only: model_t, stage_t, stage_load, elem_quad4_shear
     use cfrd_results, only: results_t, slab_result_t, body_extremes_t, singular_radius_t
     use cfrd_interface, only: slab_stresses
     use cfrd_body_extremes, only: body_extremes
     use cfrd_beam_foundation, only: vesic_modulus, decay_rate, decay_radius
     use cfrd_stage_driver, only: run_analysis
-    use cfrd_test_models, only: new_model, elastic_material, linear_joint
+    use cfrd_test_models, only: new_model, elastic_material
+    use test_analysis_slab_clamp, only: test_clamped_slab, slab_on_winkler
     implicit none
     private
 
@@ -29,7 +29,8 @@ contains
         tests = [new_unittest('hetenyi_point_load', test_hetenyi), &
                  new_unittest('extremes_without_singular_points', test_extremes), &
                  new_unittest('vesic_worked_example', test_vesic), &
-                 new_unittest('skewed_columns_are_sections', test_skewed_columns)]
+                 new_unittest('skewed_columns_are_sections', test_skewed_columns), &
+                 new_unittest('clamped_slab_moment', test_clamped_slab)]
     end subroutine collect_analysis_slab
 
     !> A slab 28 m long, h = 0.6 m thick in two layers of 56 Q4S quads each (0.5 m), on its
@@ -48,6 +49,7 @@ contains
     !> to 3 % of their peak, V to 3 % of P/2, N to 1 % of H. Measured: M 0.49 %, V 0.13 %,
     !> N 0.05 %, fibre stresses 0.52 % of their peaks. (The slab's elements must be longer
     !> than thick: slab_stresses takes an element's longer axis as the slab's.)
+    !> (The slab on its joints: slab_on_winkler of test_analysis_slab_clamp.)
     !> The decay length (the summary's radius around a singular point, docs/theory.md
     !> section 13): Hetenyi's V vanishes first at lambda x = pi/2 on each side of the load,
     !> so twice the distance of the FE shear's first zero (linear between sections) is
@@ -63,12 +65,11 @@ contains
         real(dp) :: t(2), n(2), beta, x, m_ref, v_ref, m_peak, s_load, worst(4), zero(2), &
                     reach
         real(dp), allocatable :: xy(:, :)
-        integer, allocatable :: conn(:, :), mat(:)
-        integer :: i, j, el, nsec
+        integer :: i, j, nsec
         t = [cos(35.0_dp*deg), sin(35.0_dp*deg)]
         n = [-t(2), t(1)]
         ! Nodes: the slab's three rows (row j at zeta = h j / 2), then the fixed base row.
-        allocate (xy(2, 4*(nx + 1)), conn(4, 3*nx), mat(3*nx))
+        allocate (xy(2, 4*(nx + 1)))
         do j = 0, 2
             do i = 0, nx
                 xy(:, node(i, j)) = length*i/nx*t + h*j/2.0_dp*n
@@ -77,33 +78,7 @@ contains
         do i = 0, nx
             xy(:, node(i, 3)) = length*i/nx*t
         end do
-        el = 0
-        do j = 0, 1
-            do i = 0, nx - 1
-                el = el + 1
-                conn(:, el) = [node(i, j), node(i + 1, j), node(i + 1, j + 1), node(i, j + 1)]
-                mat(el) = 1
-            end do
-        end do
-        do i = 0, nx - 1
-            el = el + 1
-            conn(:, el) = [node(i, 3), node(i + 1, 3), node(i + 1, 0), node(i, 0)]
-            mat(el) = 2
-        end do
-        call new_model(model, xy, conn, mat, [elastic_material(e, 0.0_dp, 0.0_dp), &
-                                              linear_joint(k, 1.0e-3_dp*k)])
-        model%mesh%kind(1:2*nx) = elem_quad4_shear
-        model%mesh%kind(2*nx + 1:) = elem_joint_gauss
-        model%mesh%group(1:2*nx) = 1
-        model%mesh%group_name = [character(len=10) :: 'SLAB']
-        model%slab_groups = [1]
-        allocate (model%interfaces(nx))
-        do i = 1, nx
-            model%interfaces(i) = interface_element_t(element=2*nx + i, line=1, &
-                                                      method=method_joint)
-        end do
-        allocate (model%gauges(0), model%wet_faces(0))
-        model%fixed(:, [(node(i, 3), i=0, nx)]) = .true.
+        call slab_on_winkler(model, xy, nx, 2, e, 0.0_dp, k, elem_quad4_shear)
         associate (f => model%load_sets(1)%nodal_force)
             f(:, node(nx/2, 1)) = -p*n
             ! H on each end section, consistent nodal forces of a uniform traction.

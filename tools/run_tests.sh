@@ -202,6 +202,10 @@ tool_checks "results format" python3 tools/check_results_format.py --cfrd "$cfrd
 # the links, the lean XDMF against the full one, a lean file continued as a full one.
 tool_checks "results lean" python3 tools/check_results_lean.py --cfrd "$cfrd" \
     --workdir "$work/lean"
+# The deflate filter computed by libdeflate (issue 21, src/io/cfrd_h5_deflate.c): the files
+# read by h5py equal to --compress 0's, every chunk a zlib stream that Python's zlib inflates
+# to the unfiltered values, the standard pipeline, not zlib's encoding, restart from such a file.
+tool_checks "deflate" python3 tools/check_deflate.py --cfrd "$cfrd" --workdir "$work/deflate"
 # The measuring aid of issue 21: CFRD_WRITE_MATRIX leaves the results bit-identical, writes
 # the stage's matrix (read back by scipy), and tools/factor_floor.c solves it (x = 1).
 tool_checks "matrix market" python3 tools/check_matrix_market.py --cfrd "$cfrd" \

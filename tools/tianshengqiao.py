@@ -644,6 +644,8 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
     title = f"TITLE     {place}, {mesh_label or f'x{r} mesh'}, {what}"
     if len(title) > 80:         # --plinth with --face: the joints' rule is in the deck
         title = re.sub(r" \((lobatto|gauss)\)", "", title)
+    if len(title) > 80:         # --face with the bonded slab's longer name
+        title = title.replace(" section 0+630", " 0+630")
     lines = [title,
              "* Written by tools/tianshengqiao.py from inputs/tianshengqiao-i.toml; do not edit:",
              "* edit the geometry file and rerun `python3 tools/tianshengqiao.py --all`.",

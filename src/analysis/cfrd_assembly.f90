@@ -6,7 +6,7 @@ module cfrd_assembly
     use cfrd_omp_threads, only: loop_threads
     use cfrd_error, only: error_t
     use cfrd_model, only: model_t, load_set_t, all_groups
-    use cfrd_element, only: element_t
+    use cfrd_element, only: element_t, element_geometry_t
     use cfrd_element_library, only: make_element
     use cfrd_edge_load, only: face_pressure_forces
     use cfrd_material_law, only: nhistory, material_tangent
@@ -31,9 +31,14 @@ module cfrd_assembly
     !> [choice].
     integer, parameter :: min_parallel = 32
 
-    !> One element implementation per element kind used by the mesh.
+    !> One element implementation per element kind used by the mesh, and the geometry of
+    !> the mesh's elements of that kind, computed once (issue 21; the mesh's coordinates do
+    !> not change during an analysis: the model is intent(in) throughout, a CAST move goes
+    !> to the contact's own copy): element e's record is geometry(slot(e)).
     type :: element_box_t
         class(element_t), allocatable :: element
+        type(element_geometry_t), allocatable :: geometry(:)
+        integer, allocatable :: slot(:)
     end type element_box_t
 
     !> Equation numbers of the active mesh: eq(2, nnode) > 0 for a free dof of an active node,
@@ -48,17 +53,30 @@ module cfrd_assembly
 
 contains
 
-    !> The implementation of every element kind the mesh uses, indexed by kind.
+    !> The implementation of every element kind the mesh uses, indexed by kind, with the
+    !> geometry (B, dV) of every element of the mesh, active or not.
     subroutine make_elements(model, library, error)
         type(model_t), intent(in) :: model
         type(element_box_t), allocatable, intent(out) :: library(:)
         type(error_t), allocatable, intent(out) :: error
-        integer :: kind
+        integer :: kind, e, nn, n
         allocate (library(maxval(model%mesh%kind)))
         do kind = 1, size(library)
             if (.not. any(model%mesh%kind == kind)) cycle
             call make_element(kind, model%analysis, library(kind)%element, error)
             if (allocated(error)) return
+            associate (box => library(kind), mesh => model%mesh)
+                allocate (box%slot(mesh%nelem), source=0)
+                allocate (box%geometry(count(mesh%kind(1:mesh%nelem) == kind)))
+                nn = box%element%nodes()
+                n = 0
+                do e = 1, mesh%nelem
+                    if (mesh%kind(e) /= kind) cycle
+                    n = n + 1
+                    box%slot(e) = n
+                    call box%element%geometry(mesh%x(:, mesh%conn(1:nn, e)), box%geometry(n))
+                end do
+            end associate
         end do
     end subroutine make_elements
 
@@ -277,7 +295,8 @@ contains
         real(dp), intent(in), optional :: tangents(:, :, :, :)
         real(dp) :: dmat(4, 4, 4)
         integer :: nn, ng, nc
-        associate (mesh => model%mesh, element => library(model%mesh%kind(e))%element)
+        associate (box => library(model%mesh%kind(e)), &
+                   element => library(model%mesh%kind(e))%element)
             nn = element%nodes()
             ng = element%gauss_points()
             nc = element%components()
@@ -287,7 +306,7 @@ contains
                 call element_tangents(model, e, stress(:, 1:ng, e), strain(:, 1:ng, e), &
                                       history(1:nhistory, 1:ng, e), dmat(:, :, 1:ng))
             end if
-            call element%stiffness(mesh%x(:, mesh%conn(1:nn, e)), dmat(1:nc, 1:nc, 1:ng), &
+            call element%stiffness(box%geometry(box%slot(e)), dmat(1:nc, 1:nc, 1:ng), &
                                    ke(1:2*nn, 1:2*nn))
         end associate
     end subroutine element_stiffness
@@ -336,11 +355,12 @@ contains
         real(dp), intent(in) :: stress(:, :, :)
         real(dp), intent(out) :: fe(:)
         integer :: nn, ng, nc
-        associate (mesh => model%mesh, element => library(model%mesh%kind(e))%element)
+        associate (box => library(model%mesh%kind(e)), &
+                   element => library(model%mesh%kind(e))%element)
             nn = element%nodes()
             ng = element%gauss_points()
             nc = element%components()
-            call element%internal_force(mesh%x(:, mesh%conn(1:nn, e)), stress(1:nc, 1:ng, e), &
+            call element%internal_force(box%geometry(box%slot(e)), stress(1:nc, 1:ng, e), &
                                         fe(1:2*nn))
         end associate
     end subroutine element_force

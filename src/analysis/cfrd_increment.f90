@@ -387,13 +387,14 @@ contains
         real(dp), intent(out) :: strain(4, ngauss)
         integer, intent(out) :: ng
         integer :: nn, nc
-        associate (element => library(model%mesh%kind(e))%element)
+        associate (box => library(model%mesh%kind(e)), &
+                   element => library(model%mesh%kind(e))%element)
             nn = element%nodes()
             ng = element%gauss_points()
             nc = element%components()
             strain = 0.0_dp
-            call element%strains(model%mesh%x(:, model%mesh%conn(1:nn, e)), &
-                                 gather(model, e, nn, du), strain(1:nc, 1:ng))
+            call element%strains(box%geometry(box%slot(e)), gather(model, e, nn, du), &
+                                 strain(1:nc, 1:ng))
         end associate
     end subroutine element_strains
 

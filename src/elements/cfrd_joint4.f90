@@ -10,7 +10,7 @@
 !> (xi = +-1, i.e. nodal lumping), chosen per element kind.
 module cfrd_joint4
     use cfrd_kinds, only: dp
-    use cfrd_element, only: element_t
+    use cfrd_element, only: element_t, element_geometry_t
     implicit none
     private
 
@@ -25,9 +25,10 @@ module cfrd_joint4
         procedure, nopass :: nodes
         procedure, nopass :: gauss_points
         procedure, nopass :: components
-        procedure :: stiffness
-        procedure :: strains
-        procedure :: internal_force
+        procedure :: geometry
+        procedure :: stiffness_geo
+        procedure :: strains_geo
+        procedure :: internal_force_geo
         procedure :: body_force
         procedure :: face_pressure
         procedure :: gauss_coordinates
@@ -89,48 +90,66 @@ contains
         if (self%axisymmetric) ds = ds*0.5_dp*((1.0_dp - xi)*x(1, 1) + (1.0_dp + xi)*x(1, 2))
     end subroutine joint_bmatrix
 
-    pure subroutine stiffness(self, x, dmat, ke)
+    !> B (rows 1:2) and dS at the integration points, computed once per element.
+    pure subroutine geometry(self, x, geo)
         class(joint4_t), intent(in) :: self
-        real(dp), intent(in) :: x(:, :), dmat(:, :, :)
+        real(dp), intent(in) :: x(:, :)
+        type(element_geometry_t), intent(out) :: geo
+        real(dp) :: xi(ngauss), w(ngauss), bee(ncomp, ndof)
+        integer :: ig
+        call rule(self, xi, w)
+        do ig = 1, ngauss
+            call joint_bmatrix(self, x, xi(ig), bee, geo%dv(ig))
+            geo%bee(1:ncomp, 1:ndof, ig) = bee
+        end do
+    end subroutine geometry
+
+    pure subroutine stiffness_geo(self, geo, dmat, ke)
+        class(joint4_t), intent(in) :: self
+        type(element_geometry_t), intent(in) :: geo
+        real(dp), intent(in) :: dmat(:, :, :)
         real(dp), intent(out) :: ke(:, :)
         real(dp) :: xi(ngauss), w(ngauss), bee(ncomp, ndof), ds
         integer :: ig
         call rule(self, xi, w)
         ke(1:ndof, 1:ndof) = 0.0_dp
         do ig = 1, ngauss
-            call joint_bmatrix(self, x, xi(ig), bee, ds)
+            bee = geo%bee(1:ncomp, 1:ndof, ig)
+            ds = geo%dv(ig)
             ke(1:ndof, 1:ndof) = ke(1:ndof, 1:ndof) + &
                 matmul(transpose(bee), matmul(dmat(1:ncomp, 1:ncomp, ig), bee))*(ds*w(ig))
         end do
-    end subroutine stiffness
+    end subroutine stiffness_geo
 
-    pure subroutine strains(self, x, u, strain)
+    pure subroutine strains_geo(self, geo, u, strain)
         class(joint4_t), intent(in) :: self
-        real(dp), intent(in) :: x(:, :), u(:)
+        type(element_geometry_t), intent(in) :: geo
+        real(dp), intent(in) :: u(:)
         real(dp), intent(out) :: strain(:, :)
-        real(dp) :: xi(ngauss), w(ngauss), bee(ncomp, ndof), ds
+        real(dp) :: bee(ncomp, ndof)
         integer :: ig
-        call rule(self, xi, w)
         strain = 0.0_dp
         do ig = 1, ngauss
-            call joint_bmatrix(self, x, xi(ig), bee, ds)
+            bee = geo%bee(1:ncomp, 1:ndof, ig)
             strain(1:ncomp, ig) = matmul(bee, u(1:ndof))
         end do
-    end subroutine strains
+    end subroutine strains_geo
 
-    pure subroutine internal_force(self, x, stress, fe)
+    pure subroutine internal_force_geo(self, geo, stress, fe)
         class(joint4_t), intent(in) :: self
-        real(dp), intent(in) :: x(:, :), stress(:, :)
+        type(element_geometry_t), intent(in) :: geo
+        real(dp), intent(in) :: stress(:, :)
         real(dp), intent(out) :: fe(:)
         real(dp) :: xi(ngauss), w(ngauss), bee(ncomp, ndof), ds
         integer :: ig
         call rule(self, xi, w)
         fe(1:ndof) = 0.0_dp
         do ig = 1, ngauss
-            call joint_bmatrix(self, x, xi(ig), bee, ds)
+            bee = geo%bee(1:ncomp, 1:ndof, ig)
+            ds = geo%dv(ig)
             fe(1:ndof) = fe(1:ndof) + matmul(transpose(bee), stress(1:ncomp, ig))*(ds*w(ig))
         end do
-    end subroutine internal_force
+    end subroutine internal_force_geo
 
     !> A zero-thickness joint has no volume, hence no weight.
     pure subroutine body_force(self, x, b, fe)

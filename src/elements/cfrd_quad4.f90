@@ -8,7 +8,7 @@
 !> element in bending no longer locks in parasitic shear (the face slab).
 module cfrd_quad4
     use cfrd_kinds, only: dp
-    use cfrd_element, only: element_t
+    use cfrd_element, only: element_t, element_geometry_t
     use cfrd_shape, only: gauss_2x2, shape_fun, shape_der
     use cfrd_edge_load, only: face_pressure_forces
     implicit none
@@ -26,9 +26,10 @@ module cfrd_quad4
         procedure, nopass :: gauss_points
         procedure, nopass :: components
         procedure :: element_bmatrix
-        procedure :: stiffness
-        procedure :: strains
-        procedure :: internal_force
+        procedure :: geometry
+        procedure :: stiffness_geo
+        procedure :: strains_geo
+        procedure :: internal_force_geo
         procedure :: body_force
         procedure :: face_pressure
         procedure :: gauss_coordinates
@@ -120,47 +121,121 @@ contains
         end function tensor
     end subroutine element_bmatrix
 
-    pure subroutine stiffness(self, x, dmat, ke)
+    !> B and dV at the 2x2 Gauss points (element_bmatrix), computed once per element.
+    pure subroutine geometry(self, x, geo)
         class(quad4_t), intent(in) :: self
-        real(dp), intent(in) :: x(:, :), dmat(:, :, :)
-        real(dp), intent(out) :: ke(:, :)
-        real(dp) :: points(2, ngauss), weights(ngauss), bee(ncomp, ndof), dv, db(ncomp, ndof)
+        real(dp), intent(in) :: x(:, :)
+        type(element_geometry_t), intent(out) :: geo
+        real(dp) :: points(2, ngauss), weights(ngauss)
         integer :: ig
+        call gauss_2x2(points, weights)
+        do ig = 1, ngauss
+            call self%element_bmatrix(x, points(1, ig), points(2, ig), geo%bee(:, :, ig), &
+                                      geo%dv(ig))
+        end do
+    end subroutine geometry
+
+    !> ke = sum over points of B^T (D B dV w). A standard quad's B has, for node k, the
+    !> columns (N_k,x, 0, h_k, N_k,y) and (0, N_k,y, 0, N_k,x) (h_k = N_k / r axisymmetric,
+    !> else 0): the products are taken over those entries only, in the order of the full
+    !> product (terms in B's zeros add exact zeros). Q4S's B is full: the full product.
+    pure subroutine stiffness_geo(self, geo, dmat, ke)
+        class(quad4_t), intent(in) :: self
+        type(element_geometry_t), intent(in) :: geo
+        real(dp), intent(in) :: dmat(:, :, :)
+        real(dp), intent(out) :: ke(:, :)
+        real(dp) :: points(2, ngauss), weights(ngauss), db(ncomp, ndof), s, t
+        real(dp) :: nx(nnode), ny(nnode), h(nnode)
+        integer :: ig, i, j, k
         call gauss_2x2(points, weights)
         ke(1:ndof, 1:ndof) = 0.0_dp
         do ig = 1, ngauss
-            call self%element_bmatrix(x, points(1, ig), points(2, ig), bee, dv)
-            db = matmul(dmat(:, :, ig), bee)*(dv*weights(ig))
-            ke(1:ndof, 1:ndof) = ke(1:ndof, 1:ndof) + matmul(transpose(bee), db)
+            associate (bee => geo%bee(:, :, ig), d => dmat(:, :, ig))
+                if (self%assumed_shear) then
+                    db = matmul(d, bee)*(geo%dv(ig)*weights(ig))
+                    ke(1:ndof, 1:ndof) = ke(1:ndof, 1:ndof) + matmul(transpose(bee), db)
+                    cycle
+                end if
+                s = geo%dv(ig)*weights(ig)
+                nx = bee(1, 1:ndof:2)
+                ny = bee(2, 2:ndof:2)
+                h = bee(3, 1:ndof:2)
+                ! Each sum from zero, term by term, as the full product takes it.
+                do k = 1, nnode
+                    do i = 1, ncomp
+                        t = 0.0_dp
+                        t = t + d(i, 1)*nx(k)
+                        t = t + d(i, 3)*h(k)
+                        t = t + d(i, 4)*ny(k)
+                        db(i, 2*k - 1) = t*s
+                        t = 0.0_dp
+                        t = t + d(i, 2)*ny(k)
+                        t = t + d(i, 4)*nx(k)
+                        db(i, 2*k) = t*s
+                    end do
+                end do
+                do j = 1, ndof
+                    do k = 1, nnode
+                        t = 0.0_dp
+                        t = t + nx(k)*db(1, j)
+                        t = t + h(k)*db(3, j)
+                        t = t + ny(k)*db(4, j)
+                        ke(2*k - 1, j) = ke(2*k - 1, j) + t
+                        t = 0.0_dp
+                        t = t + ny(k)*db(2, j)
+                        t = t + nx(k)*db(4, j)
+                        ke(2*k, j) = ke(2*k, j) + t
+                    end do
+                end do
+            end associate
         end do
-    end subroutine stiffness
+    end subroutine stiffness_geo
 
-    pure subroutine strains(self, x, u, strain)
+    !> strain = B u at each point; a standard quad over B's nonzero entries (stiffness_geo),
+    !> each sum from zero in the order of the full product; Q4S the full product.
+    pure subroutine strains_geo(self, geo, u, strain)
         class(quad4_t), intent(in) :: self
-        real(dp), intent(in) :: x(:, :), u(:)
+        type(element_geometry_t), intent(in) :: geo
+        real(dp), intent(in) :: u(:)
         real(dp), intent(out) :: strain(:, :)
-        real(dp) :: points(2, ngauss), weights(ngauss), bee(ncomp, ndof), dv
-        integer :: ig
-        call gauss_2x2(points, weights)
+        real(dp) :: txx, tyy, tzz, txy
+        integer :: ig, k
         do ig = 1, ngauss
-            call self%element_bmatrix(x, points(1, ig), points(2, ig), bee, dv)
-            strain(:, ig) = matmul(bee, u(1:ndof))
+            associate (bee => geo%bee(:, :, ig))
+                if (self%assumed_shear) then
+                    strain(:, ig) = matmul(bee, u(1:ndof))
+                    cycle
+                end if
+                txx = 0.0_dp
+                tyy = 0.0_dp
+                tzz = 0.0_dp
+                txy = 0.0_dp
+                do k = 1, nnode
+                    txx = txx + bee(1, 2*k - 1)*u(2*k - 1)
+                    tyy = tyy + bee(2, 2*k)*u(2*k)
+                    tzz = tzz + bee(3, 2*k - 1)*u(2*k - 1)
+                    txy = txy + bee(4, 2*k - 1)*u(2*k - 1)
+                    txy = txy + bee(4, 2*k)*u(2*k)
+                end do
+                strain(1:ncomp, ig) = [txx, tyy, tzz, txy]
+            end associate
         end do
-    end subroutine strains
+    end subroutine strains_geo
 
-    pure subroutine internal_force(self, x, stress, fe)
+    pure subroutine internal_force_geo(self, geo, stress, fe)
         class(quad4_t), intent(in) :: self
-        real(dp), intent(in) :: x(:, :), stress(:, :)
+        type(element_geometry_t), intent(in) :: geo
+        real(dp), intent(in) :: stress(:, :)
         real(dp), intent(out) :: fe(:)
-        real(dp) :: points(2, ngauss), weights(ngauss), bee(ncomp, ndof), dv
+        real(dp) :: points(2, ngauss), weights(ngauss)
         integer :: ig
         call gauss_2x2(points, weights)
         fe(1:ndof) = 0.0_dp
         do ig = 1, ngauss
-            call self%element_bmatrix(x, points(1, ig), points(2, ig), bee, dv)
-            fe(1:ndof) = fe(1:ndof) + matmul(transpose(bee), stress(:, ig))*(dv*weights(ig))
+            fe(1:ndof) = fe(1:ndof) + matmul(transpose(geo%bee(:, :, ig)), stress(:, ig))* &
+                         (geo%dv(ig)*weights(ig))
         end do
-    end subroutine internal_force
+    end subroutine internal_force_geo
 
     pure subroutine body_force(self, x, b, fe)
         class(quad4_t), intent(in) :: self

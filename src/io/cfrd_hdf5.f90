@@ -10,8 +10,9 @@
 !> error naming the object; close_results_h5 closes every handle whatever failed.
 module cfrd_hdf5
     use, intrinsic :: iso_fortran_env, only: compiler_version
-    use hdf5, only: hid_t, h5open_f, h5close_f, h5fcreate_f, h5fclose_f, h5fflush_f, &
+    use hdf5, only: hid_t, h5close_f, h5fcreate_f, h5fclose_f, h5fflush_f, &
                     h5gclose_f, h5eset_auto_f, H5F_ACC_TRUNC_F, H5F_SCOPE_GLOBAL_F
+    use cfrd_h5_deflate, only: h5_open
     use cfrd_kinds, only: dp
     use cfrd_h5_datasets, only: h5_state_t, fail, open_group, close_group, dataset_real1, &
                                 dataset_real2, dataset_real3, dataset_int1, dataset_int2, &
@@ -120,7 +121,7 @@ contains
         file%interfaces = has_interfaces(model)
         file%slab = has_slab(model)
         file%contact = has_contact(model)
-        call h5open_f(hdferr)
+        call h5_open(hdferr)
         if (hdferr < 0) then
             call fatal_error(error, 'cannot initialise the HDF5 library', io_error)
             return

@@ -4,7 +4,8 @@
 !> checking that it is the stored deck up to stage K), the stored stages read back, and
 !> where the new result set goes.
 module cfrd_restart
-    use hdf5, only: hid_t, h5open_f, h5fopen_f, h5fclose_f, h5eset_auto_f, H5F_ACC_RDONLY_F
+    use hdf5, only: hid_t, h5fopen_f, h5fclose_f, h5eset_auto_f, H5F_ACC_RDONLY_F
+    use cfrd_h5_deflate, only: h5_open
     use cfrd_error, only: error_t, fatal_error, input_error
     use cfrd_strings, only: to_text
     use cfrd_model, only: model_t
@@ -52,7 +53,7 @@ contains
         type(h5_state_t) :: st
         integer :: hdferr, layout
         source%path = path
-        call h5open_f(hdferr)
+        call h5_open(hdferr)
         call h5eset_auto_f(0, hdferr)
         call h5fopen_f(path, H5F_ACC_RDONLY_F, source%file_id, hdferr)
         if (hdferr < 0) then

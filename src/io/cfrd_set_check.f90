@@ -7,8 +7,9 @@
 !> when nothing is missing, mixed or changed; files a cfrd run id does not mark are left
 !> alone, except those of the set's names.
 module cfrd_set_check
-    use hdf5, only: hid_t, h5open_f, h5close_f, h5fopen_f, h5fclose_f, h5eset_auto_f, &
+    use hdf5, only: hid_t, h5close_f, h5fopen_f, h5fclose_f, h5eset_auto_f, &
                     H5F_ACC_RDONLY_F
+    use cfrd_h5_deflate, only: h5_open
     use cfrd_h5_read, only: text_attribute, int_attribute
     use cfrd_error, only: error_t, fatal_error, usage_error
     use cfrd_strings, only: to_text
@@ -67,7 +68,7 @@ contains
                              '(.h5)', usage_error)
             return
         end if
-        call h5open_f(hdferr)
+        call h5_open(hdferr)
         call h5eset_auto_f(0, hdferr)    ! our messages, not HDF5's error stack on stderr
         nsets = 0
         nwhole = 0
