@@ -148,10 +148,11 @@ contains
             end if
         end if
         ! Predictor with the tangent at the start of the increment; a rejected midpoint
-        ! increment redone from the same state takes back the factorisation of that tangent
-        ! kept from its first attempt (error control, without contact: CHOLMOD's only).
-        reuse = model%solver == solver_midpoint .and. model%error_tolerance > 0.0_dp .and. &
-                .not. state%has_contact
+        ! increment (error control) or a Newton increment cut back, redone from the same
+        ! state, takes back the factorisation of that tangent kept from its first attempt
+        ! (without contact: CHOLMOD's only).
+        reuse = .not. state%has_contact .and. (model%solver == solver_newton .or. &
+                (model%solver == solver_midpoint .and. model%error_tolerance > 0.0_dp))
         ! The tangents at the start stresses once (docs/performance.md (v)): the predictor's
         ! matrix and the updates from the start stress take these. Not with creep, whose
         ! updates start elsewhere (absent, each caller evaluates its own as before).
@@ -274,9 +275,13 @@ contains
                                              f_try(:, :)
                     real(dp) :: step, trial
                     integer :: halving
-                    ! f_target - f_int(stress_end): the internal forces of the residual above
+                    ! f_target - f_int(stress_end): the internal forces of the residual above;
+                    ! without UMFPACK's iterative refinement, which the next iteration does
+                    ! (not with contact: its active set is decided on the solution)
+                    if (.not. state%has_contact) call system%solver%set_refinement(.false.)
                     call solve_system(model, f_target - f_end, 0.0_dp*du_prescribed, system, &
                                       ddu, result, context, error, contact, du, stalled)
+                    call system%solver%set_refinement(.true.)
                     if (allocated(error)) return
                     ! Backtracking line search: the E-B tangent has kinks (stress-level cap,
                     ! sigma3 floor, Poisson bounds, unloading transition) where a full

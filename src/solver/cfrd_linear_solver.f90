@@ -44,6 +44,7 @@ module cfrd_linear_solver
     contains
         procedure :: configure
         procedure :: set_row_scaling
+        procedure :: set_refinement
         procedure :: choose
         procedure :: is_analysed
         procedure :: analyse
@@ -77,6 +78,14 @@ contains
         logical, intent(in) :: on
         call self%lu%set_row_scaling(on)
     end subroutine set_row_scaling
+
+    !> UMFPACK's iterative refinement of the solves (umfpack_t%set_refinement; CHOLMOD's
+    !> solves are not refined).
+    subroutine set_refinement(self, on)
+        class(linear_solver_t), intent(inout) :: self
+        logical, intent(in) :: on
+        call self%lu%set_refinement(on)
+    end subroutine set_refinement
 
     !> Which library factorises `values` next: CHOLMOD when the choice allows it and the
     !> matrix is symmetric with a positive diagonal (symmetric_values), else UMFPACK.

@@ -79,6 +79,7 @@ module cfrd_umfpack
         real(dp), allocatable :: b_base(:), x_base(:)
     contains
         procedure :: set_row_scaling
+        procedure :: set_refinement
         procedure :: analyse
         procedure :: factorise
         procedure :: update_rows
@@ -203,6 +204,19 @@ contains
         if (self%configured) self%control(i_scale + 1) = &
             real(merge(scale_sum, scale_none, on), c_double)
     end subroutine set_row_scaling
+
+    !> UMFPACK's iterative refinement of its solves (UMFPACK_IRSTEP: its default, 2 steps,
+    !> when on; none when off). Off for Newton's corrections, which the next iteration
+    !> corrects in turn (docs/theory.md section 9, "Newton's solves and
+    !> factorisations").
+    subroutine set_refinement(self, on)
+        class(umfpack_t), intent(inout) :: self
+        logical, intent(in) :: on
+        real(c_double) :: defaults(umfpack_control)
+        call configure(self)
+        call umfpack_di_defaults(defaults)
+        self%control(i_irstep + 1) = merge(defaults(i_irstep + 1), 0.0_dp, on)
+    end subroutine set_refinement
 
     !> Symbolic factorisation (ordering and analysis) of the pattern; replaces an earlier one.
     subroutine analyse(self, pattern, values, error)
