@@ -8,8 +8,10 @@ the paper's Table 2. The mesh (docs/tianshengqiao.md): body rows follow elevatio
 slab element below the phase III top, one above); lines parallel to the upstream face bound
 the IIA and IIIA bands; further lines parallel to the faces are born, going down from the
 crest, wherever the central column grows wider than `split_width`, in a 3-to-1 quad
-transition row; the slab lies on the cushion face, two layers thick, its cross-lines
-horizontal. Refinement xR splits every x1 quad R x R by its bilinear map, so each mesh holds
+transition row; the slab lies on the cushion face, two layers thick, in Q4S quads whose
+cross-lines are normal to the face (the geometry file's slab.element; --slab-element Q4: Q4
+quads with horizontal cross-lines on the body's row lines, which lock in shear,
+docs/tianshengqiao.md section 11.3). Refinement xR splits every x1 quad R x R by its bilinear map, so each mesh holds
 the x1 mesh's lines, zones, groups and fill layers. --face F: every row and the slab in F
 along the slope, the first --face-band columns behind the face at xF, the rest at xR.
 
@@ -173,9 +175,10 @@ def build_x1(geo, interface="bonded", plinth=False, normal_rings=None):
     # where Q4S is exact in bending), not along the body's row lines (parallelograms skewed
     # by 54.5 deg, on which Q4S's shear stresses carry a part of the bending strain that
     # alternates from Gauss point to Gauss point, docs/theory.md section 3); default: for
-    # the contact slab only (its own mesh). The toe's ring lies on the base either way.
+    # the contact slab (its own mesh) and for a Q4S slab (the geometry file's slab.element,
+    # issue 22). The toe's ring lies on the base either way.
     if normal_rings is None:
-        normal_rings = interface == "contact"
+        normal_rings = interface == "contact" or geo.v("slab", "element") == "Q4S"
     mesh = Mesh()
     y, parent = geo.mesh_lines()
     nband = len(y) - 1
@@ -635,7 +638,7 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
                rule="LOBATTO", slab_type=None, mesh_label=None):
     plinth = bool(num.pjoint)
     nmat = (6 if interface in ("bonded", "contact") else 7) + (1 if plinth else 0)
-    slab_type = slab_type or ("Q4S" if interface == "contact" else "Q4")
+    slab_type = slab_type or geo.v("slab", "element")
     gauges, info = gauge_nodes(geo, num), describe(geo, r, num)
     what = {"bonded": "slab bonded to the cushion", "thin": "thin layer under the slab",
             "joint": f"Goodman joints ({rule.lower()})", "contact": "slab in contact"}[interface]
@@ -678,8 +681,8 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
         except FieldOverflow:   # F10 cannot hold it to 1e-7 (fine meshes): a free card
             add(f"&{n},,,{free_real(x)},{free_real(yv)}")
     lines += ["ELEMENTS", "*  NE    I    J    K    L  MAT NGEN NINC GROUP"]
-    # The slab of the contact deck in Q4S quads (no parasitic shear in bending: its elements
-    # are 20-30 times longer than thick and bend with the cushion).
+    # The slab in Q4S quads (no parasitic shear in bending: its elements are 2-30 times
+    # longer than thick and bend with the cushion; the Q4 slab locks, tianshengqiao.md 11.3).
     lines += [fi(e) + "".join(fi(v) for v in c) + fi(q.material or SLAB_MATERIAL) + " " * 10
               + fa(q.group)
               + ("Q4S" if q.kind == "slab" and slab_type == "Q4S" else "")
@@ -842,7 +845,12 @@ def main(argv=None):
                          " joint (PJOINT) between it and the slab's end ([plinth] of the"
                          " geometry file; docs/tianshengqiao.md s. 10)")
     ap.add_argument("--slab-element", choices=["Q4", "Q4S"], default=None,
-                    help="element type of the slab (default: Q4S for contact, Q4 else)")
+                    help="element type of the slab (default: the geometry file's slab.element,"
+                         " Q4S cut normal to the face, for every interface); Q4 writes the"
+                         " decks before issue 22 for comparison: Q4 quads on the body's row"
+                         " lines (contact: normal to the face), which lock in shear and"
+                         " under-report the slab's bending near the toe (docs/tianshengqiao.md"
+                         " s. 11.3)")
     ap.add_argument("--rule", default="LOBATTO", choices=["LOBATTO", "GAUSS"],
                     help="integration rule of the joints (--interface joint)")
     ap.add_argument("--top-rows", type=int, default=None,
@@ -880,19 +888,21 @@ def main(argv=None):
     else:
         jobs = [(args.refine or 1, Path(args.deck) if args.deck else None, args.interface,
                  args.knee)]
+    slab_element = args.slab_element or base.v("slab", "element")
     for r, path, interface, knee in jobs:
         r, geo = base.at_knee(interface) if knee else (r, base)
-        # Q4S slabs (the contact deck's, or --slab-element Q4S) get element ends normal to
-        # the face: Q4S is not generated on skewed slab elements (issue 22).
+        # Q4S slabs (the default, or --slab-element Q4S) get element ends normal to the
+        # face: Q4S is not generated on skewed slab elements (issue 22). The contact slab's
+        # own mesh is normal to the face with either element.
         geo, num, stages, notes = generate(
             r, geo, interface, args.face, args.face_band, args.plinth,
             "midpoint method: out of balance once the perimetric joint opens (relative residual"
             " up to 7 in the last water stage); use --solver newton (docs/tianshengqiao.md"
             " s. 10)" if args.solver == "midpoint" else None,
-            interface == "contact" or args.slab_element == "Q4S")
+            interface == "contact" or slab_element == "Q4S")
         if path is not None:
             info = write_deck(geo, r, num, stages, notes, path, args.solver, interface,
-                              args.rule, args.slab_element,
+                              args.rule, slab_element,
                               None if args.face is None else f"x{r} body, x{args.face} face")
         else:
             info = describe(geo, r, num)
