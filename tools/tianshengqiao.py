@@ -658,6 +658,9 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
     lines += ["* " + t for t in knee_lines(geo, r, interface)]
     lines += [f"*   {key} = {value} [{source}]" + (f" {note}" if note else "")
               for key, value, source, note in geo.sources + (pl.sources(geo) if plinth else [])]
+    if slab_type != geo.v("slab", "element"):
+        lines += [f"*   slab element {slab_type} (--slab-element), not slab.element above"
+                  + (": Q4 locks in shear, for comparison only" if slab_type == "Q4" else "")]
     lines += ["*   materials: E-B parameters of the paper's Table 3; unit weight = density * 9.81",
               "*     / 1000; Kur = 2 K [choice] (blank KUR); sigma3 floor 0.1 pa (default)"]
     lines += ["*   " + t for t in notes]
