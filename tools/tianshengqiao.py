@@ -11,9 +11,10 @@ crest, wherever the central column grows wider than `split_width`, in a 3-to-1 q
 transition row; the slab lies on the cushion face, two layers thick, in Q4S quads whose
 cross-lines are normal to the face (the geometry file's slab.element; --slab-element Q4: Q4
 quads with horizontal cross-lines on the body's row lines, which lock in shear,
-docs/tianshengqiao.md section 11.3). Refinement xR splits every x1 quad R x R by its bilinear map, so each mesh holds
-the x1 mesh's lines, zones, groups and fill layers. --face F: every row and the slab in F
-along the slope, the first --face-band columns behind the face at xF, the rest at xR.
+docs/tianshengqiao.md section 11.3). Refinement xR splits every x1 quad R x R by its
+bilinear map, so each mesh holds the x1 mesh's lines, zones, groups and fill layers.
+--face F: every row and the slab in F along the slope, the first --face-band columns behind
+the face at xF, the rest at xR.
 
 Interfaces (--interface): bonded (the slab shares the cushion's nodes), thin (thin-layer
 quads between cushion and slab), joint (Goodman joints on matching node pairs), contact (a
