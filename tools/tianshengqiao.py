@@ -587,6 +587,9 @@ KNEE_FIGURES = {
                " 4.8 and 2.7 % from x8, the depths equal; the mid-height settlement 0.03 % from"
                " x8; 2 increments per layer and 5 m water steps (28 s) widen phase I by 6 %",
 }
+# The figures of the bonded, joint and thin decks were measured with their Q4 slab of before
+# issue 22 (docs/accuracy-cost.md), the contact decks' with Q4S: knee_lines says so.
+Q4_MEASURED = ("bonded", "joint", "thin")
 X1_FIGURES = {
     "bonded": "0.5 s; the settlement 1.5 % (mid-height row, El. 709.3 m) and 2.3 % (overall"
               " maximum) from x8; the gauge C1-H5 8 % off, not converged",
@@ -629,6 +632,8 @@ def knee_lines(geo, r, interface):
                                                 f" {interface}")]
         if below and (r, ninc, step) == (1, 1, 10.0):
             more += [X1_FIGURES[interface], "the paper's resolution and the fast regression deck"]
+    if interface in Q4_MEASURED:
+        more += ["measured with the Q4 slab before issue 22, docs/tianshengqiao.md s. 11.4"]
     # a number stays with its unit on a line
     text = re.sub(r"(\d) (%|s\b|m\b)", "\\1\xa0\\2", "(" + "; ".join(more) + ")")
     return lines + ["  " + t.replace("\xa0", " ")
