@@ -8,10 +8,13 @@ the paper's Table 2. The mesh (docs/tianshengqiao.md): body rows follow elevatio
 slab element below the phase III top, one above); lines parallel to the upstream face bound
 the IIA and IIIA bands; further lines parallel to the faces are born, going down from the
 crest, wherever the central column grows wider than `split_width`, in a 3-to-1 quad
-transition row; the slab lies on the cushion face, two layers thick, its cross-lines
-horizontal. Refinement xR splits every x1 quad R x R by its bilinear map, so each mesh holds
-the x1 mesh's lines, zones, groups and fill layers. --face F: every row and the slab in F
-along the slope, the first --face-band columns behind the face at xF, the rest at xR.
+transition row; the slab lies on the cushion face, two layers thick, in Q4S quads whose
+cross-lines are normal to the face (the geometry file's slab.element; --slab-element Q4: Q4
+quads with horizontal cross-lines on the body's row lines, which lock in shear,
+docs/tianshengqiao.md section 11.3). Refinement xR splits every x1 quad R x R by its
+bilinear map, so each mesh holds the x1 mesh's lines, zones, groups and fill layers.
+--face F: every row and the slab in F along the slope, the first --face-band columns behind
+the face at xF, the rest at xR.
 
 Interfaces (--interface): bonded (the slab shares the cushion's nodes), thin (thin-layer
 quads between cushion and slab), joint (Goodman joints on matching node pairs), contact (a
@@ -173,9 +176,10 @@ def build_x1(geo, interface="bonded", plinth=False, normal_rings=None):
     # where Q4S is exact in bending), not along the body's row lines (parallelograms skewed
     # by 54.5 deg, on which Q4S's shear stresses carry a part of the bending strain that
     # alternates from Gauss point to Gauss point, docs/theory.md section 3); default: for
-    # the contact slab only (its own mesh). The toe's ring lies on the base either way.
+    # the contact slab (its own mesh) and for a Q4S slab (the geometry file's slab.element,
+    # issue 22). The toe's ring lies on the base either way.
     if normal_rings is None:
-        normal_rings = interface == "contact"
+        normal_rings = interface == "contact" or geo.v("slab", "element") == "Q4S"
     mesh = Mesh()
     y, parent = geo.mesh_lines()
     nband = len(y) - 1
@@ -583,6 +587,9 @@ KNEE_FIGURES = {
                " 4.8 and 2.7 % from x8, the depths equal; the mid-height settlement 0.03 % from"
                " x8; 2 increments per layer and 5 m water steps (28 s) widen phase I by 6 %",
 }
+# The figures of the bonded, joint and thin decks were measured with their Q4 slab of before
+# issue 22 (docs/accuracy-cost.md), the contact decks' with Q4S: knee_lines says so.
+Q4_MEASURED = ("bonded", "joint", "thin")
 X1_FIGURES = {
     "bonded": "0.5 s; the settlement 1.5 % (mid-height row, El. 709.3 m) and 2.3 % (overall"
               " maximum) from x8; the gauge C1-H5 8 % off, not converged",
@@ -625,6 +632,8 @@ def knee_lines(geo, r, interface):
                                                 f" {interface}")]
         if below and (r, ninc, step) == (1, 1, 10.0):
             more += [X1_FIGURES[interface], "the paper's resolution and the fast regression deck"]
+    if interface in Q4_MEASURED:
+        more += ["measured with the Q4 slab before issue 22, docs/tianshengqiao.md s. 11.4"]
     # a number stays with its unit on a line
     text = re.sub(r"(\d) (%|s\b|m\b)", "\\1\xa0\\2", "(" + "; ".join(more) + ")")
     return lines + ["  " + t.replace("\xa0", " ")
@@ -635,7 +644,7 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
                rule="LOBATTO", slab_type=None, mesh_label=None):
     plinth = bool(num.pjoint)
     nmat = (6 if interface in ("bonded", "contact") else 7) + (1 if plinth else 0)
-    slab_type = slab_type or ("Q4S" if interface == "contact" else "Q4")
+    slab_type = slab_type or geo.v("slab", "element")
     gauges, info = gauge_nodes(geo, num), describe(geo, r, num)
     what = {"bonded": "slab bonded to the cushion", "thin": "thin layer under the slab",
             "joint": f"Goodman joints ({rule.lower()})", "contact": "slab in contact"}[interface]
@@ -655,6 +664,9 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
     lines += ["* " + t for t in knee_lines(geo, r, interface)]
     lines += [f"*   {key} = {value} [{source}]" + (f" {note}" if note else "")
               for key, value, source, note in geo.sources + (pl.sources(geo) if plinth else [])]
+    if slab_type != geo.v("slab", "element"):
+        lines += [f"*   slab element {slab_type} (--slab-element), not slab.element above"
+                  + (": Q4 locks in shear, for comparison only" if slab_type == "Q4" else "")]
     lines += ["*   materials: E-B parameters of the paper's Table 3; unit weight = density * 9.81",
               "*     / 1000; Kur = 2 K [choice] (blank KUR); sigma3 floor 0.1 pa (default)"]
     lines += ["*   " + t for t in notes]
@@ -678,8 +690,8 @@ def write_deck(geo, r, num, stages, notes, path, solver="midpoint", interface="b
         except FieldOverflow:   # F10 cannot hold it to 1e-7 (fine meshes): a free card
             add(f"&{n},,,{free_real(x)},{free_real(yv)}")
     lines += ["ELEMENTS", "*  NE    I    J    K    L  MAT NGEN NINC GROUP"]
-    # The slab of the contact deck in Q4S quads (no parasitic shear in bending: its elements
-    # are 20-30 times longer than thick and bend with the cushion).
+    # The slab in Q4S quads (no parasitic shear in bending: its elements are 2-30 times
+    # longer than thick and bend with the cushion; the Q4 slab locks, tianshengqiao.md 11.3).
     lines += [fi(e) + "".join(fi(v) for v in c) + fi(q.material or SLAB_MATERIAL) + " " * 10
               + fa(q.group)
               + ("Q4S" if q.kind == "slab" and slab_type == "Q4S" else "")
@@ -842,7 +854,12 @@ def main(argv=None):
                          " joint (PJOINT) between it and the slab's end ([plinth] of the"
                          " geometry file; docs/tianshengqiao.md s. 10)")
     ap.add_argument("--slab-element", choices=["Q4", "Q4S"], default=None,
-                    help="element type of the slab (default: Q4S for contact, Q4 else)")
+                    help="element type of the slab (default: the geometry file's slab.element,"
+                         " Q4S cut normal to the face, for every interface); Q4 writes the"
+                         " decks before issue 22 for comparison: Q4 quads on the body's row"
+                         " lines (contact: normal to the face), which lock in shear and"
+                         " under-report the slab's bending near the toe (docs/tianshengqiao.md"
+                         " s. 11.3)")
     ap.add_argument("--rule", default="LOBATTO", choices=["LOBATTO", "GAUSS"],
                     help="integration rule of the joints (--interface joint)")
     ap.add_argument("--top-rows", type=int, default=None,
@@ -880,19 +897,21 @@ def main(argv=None):
     else:
         jobs = [(args.refine or 1, Path(args.deck) if args.deck else None, args.interface,
                  args.knee)]
+    slab_element = args.slab_element or base.v("slab", "element")
     for r, path, interface, knee in jobs:
         r, geo = base.at_knee(interface) if knee else (r, base)
-        # Q4S slabs (the contact deck's, or --slab-element Q4S) get element ends normal to
-        # the face: Q4S is not generated on skewed slab elements (issue 22).
+        # Q4S slabs (the default, or --slab-element Q4S) get element ends normal to the
+        # face: Q4S is not generated on skewed slab elements (issue 22). The contact slab's
+        # own mesh is normal to the face with either element.
         geo, num, stages, notes = generate(
             r, geo, interface, args.face, args.face_band, args.plinth,
             "midpoint method: out of balance once the perimetric joint opens (relative residual"
             " up to 7 in the last water stage); use --solver newton (docs/tianshengqiao.md"
             " s. 10)" if args.solver == "midpoint" else None,
-            interface == "contact" or args.slab_element == "Q4S")
+            interface == "contact" or slab_element == "Q4S")
         if path is not None:
             info = write_deck(geo, r, num, stages, notes, path, args.solver, interface,
-                              args.rule, args.slab_element,
+                              args.rule, slab_element,
                               None if args.face is None else f"x{r} body, x{args.face} face")
         else:
             info = describe(geo, r, num)
