@@ -154,8 +154,9 @@ contains
         reuse = .not. state%has_contact .and. (model%solver == solver_newton .or. &
                 (model%solver == solver_midpoint .and. model%error_tolerance > 0.0_dp))
         ! The tangents at the start stresses once (docs/performance.md (v)): the predictor's
-        ! matrix and the updates from the start stress take these. Not with creep, whose
-        ! updates start elsewhere (absent, each caller evaluates its own as before).
+        ! matrix, the updates from the start stress and Newton's iterations (newton_start)
+        ! take these. Not with creep, whose updates start elsewhere (absent, each caller
+        ! evaluates its own as before).
         if (.not. (allocated(state%creep_stress) .or. all_linear(model, state%active))) &
             d_here = start_tangents(model, library, state)
         if (reuse .and. system%start_kept) then
@@ -200,7 +201,7 @@ contains
             if (model%solver == solver_newton) then
                 ! The counts first, so that the predictor's stresses are updated once (with
                 ! one sub-step a point's update is the plain midpoint one, bit for bit).
-                call newton_start(model, library, state, du, d_start, substeps)
+                call newton_start(model, library, state, du, d_start, substeps, d_here)
                 call integrate_stress(model, library, state, du, stress_end, stress_mid, &
                                       .true., creep_share=1.0_dp, d_start=d_start, &
                                       substeps=substeps)
@@ -210,7 +211,7 @@ contains
             end if
         end if
         if (model%solver == solver_newton .and. .not. allocated(substeps)) then
-            call newton_start(model, library, state, du, d_start, substeps)
+            call newton_start(model, library, state, du, d_start, substeps, d_here)
             if (any(substeps > 1)) &
                 call integrate_stress(model, library, state, du, stress_end, stress_mid, &
                                       .true., creep_share=1.0_dp, d_start=d_start, &
@@ -547,14 +548,19 @@ contains
     !> the limit point of the midpoint rule (docs/theory.md section 9, "Sub-steps"): the
     !> counts for twice the predictor's increment du, as the corrections often take a
     !> point's strain increment past the predictor's [choice].
-    subroutine newton_start(model, library, state, du, d_start, substeps)
+    subroutine newton_start(model, library, state, du, d_start, substeps, d_known)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(in) :: state
         real(dp), intent(in) :: du(:, :)
         real(dp), allocatable, intent(out) :: d_start(:, :, :, :)
         integer, allocatable, intent(out) :: substeps(:, :)
-        d_start = start_tangents(model, library, state)
+        !> start_tangents of this state already evaluated for the predictor (without creep)
+        real(dp), allocatable, intent(in), optional :: d_known(:, :, :, :)
+        if (present(d_known)) then
+            if (allocated(d_known)) d_start = d_known
+        end if
+        if (.not. allocated(d_start)) d_start = start_tangents(model, library, state)
         substeps = substep_counts(model, library, state, 2.0_dp*du, d_start)
     end subroutine newton_start
 
