@@ -42,7 +42,9 @@ contains
                 new_unittest('quad_grid_matches_dense', test_quad_grid), &
                 new_unittest('row_update_matches_dgesv', test_row_update), &
                 new_unittest('row_update_declined_beyond_rank', test_row_update_rank), &
-                new_unittest('row_update_declined_when_singular', test_row_update_singular) &
+                new_unittest('row_update_declined_when_singular', test_row_update_singular), &
+                new_unittest('row_update_of_the_factorised_matrix', test_row_update_none), &
+                new_unittest('row_update_refused_when_not_finite', test_row_update_nan) &
                 ]
     end subroutine collect_solver_sparse
 
@@ -617,6 +619,68 @@ contains
         if (allocated(error)) return
         call expect_singular(solver, pattern, values, error)
     end subroutine test_row_update_singular
+
+    !> The matrix factorised, unchanged (an increment of a linear model whose contact rows
+    !> stay as they were, docs/robustness.md "The empty row update"): no row differs, so the
+    !> update is done without a capacitance matrix (an empty one reached LAPACK's dgecon with
+    !> the norm -huge, XERBLA's message on standard output, and the same matrix was
+    !> factorised again); the solves are the factorisation's own, against dgesv to 1e-12.
+    subroutine test_row_update_none(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(sparse_pattern_t) :: pattern
+        type(umfpack_t) :: solver
+        real(dp), allocatable :: values(:)
+        logical :: closed(40), done, refused
+        closed = .false.
+        closed([4, 9]) = .true.
+        call saddle_system(closed, pattern, values, error)
+        if (allocated(error)) return
+        call solver%factorise(pattern, values, error)
+        if (allocated(error)) return
+        call saddle_system(closed, pattern, values, error)
+        if (allocated(error)) return
+        call solver%update_rows(pattern, values, done, error, refused)
+        if (allocated(error)) return
+        call check(error, done .and. .not. refused .and. .not. solver%is_updated(), &
+                   'the unchanged matrix: update done, not refused, the factors'' own solves')
+        if (allocated(error)) return
+        call check_against_dgesv(solver, pattern, values, 'x of the unchanged matrix', error)
+    end subroutine test_row_update_none
+
+    !> A changed row with a NaN (a contact row built from a non-finite state): the
+    !> capacitance matrix is not finite, so the update is refused before LAPACK sees it
+    !> (no error: the caller factorises, and the factorisation judges the matrix); the
+    !> solves stay those of the factorised matrix (dgesv, 1e-12).
+    subroutine test_row_update_nan(error)
+        use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
+        type(error_t), allocatable, intent(out) :: error
+        type(sparse_pattern_t) :: pattern
+        type(umfpack_t) :: solver
+        real(dp), allocatable :: values(:), original(:)
+        logical :: closed(40), done, refused
+        integer :: j, p
+        closed = .false.
+        call saddle_system(closed, pattern, values, error)
+        if (allocated(error)) return
+        call solver%factorise(pattern, values, error)
+        if (allocated(error)) return
+        original = values
+        closed(3) = .true.
+        call saddle_system(closed, pattern, values, error)
+        if (allocated(error)) return
+        do j = 1, pattern%n      ! row 63 (multiplier 3), its entry in column 3
+            do p = pattern%colptr(j) + 1, pattern%colptr(j + 1)
+                if (pattern%rowind(p) == 62 .and. j == 3) &
+                    values(p) = ieee_value(1.0_dp, ieee_quiet_nan)
+            end do
+        end do
+        call solver%update_rows(pattern, values, done, error, refused)
+        if (allocated(error)) return
+        call check(error, refused .and. .not. done .and. .not. solver%is_updated(), &
+                   'an update with a NaN refused')
+        if (allocated(error)) return
+        call check_against_dgesv(solver, pattern, original, 'x of the factorised matrix', error)
+    end subroutine test_row_update_nan
 
     !> The dense matrix held by a compressed-column pattern and its values.
     function to_dense(pattern, values) result(a)
