@@ -602,17 +602,10 @@ contains
         type(umfpack_t) :: solver
         real(dp), allocatable :: values(:)
         logical :: closed(40), done
-        integer :: j, p
         closed = .false.
-        call saddle_system(closed, pattern, values, error)
+        call factorised_saddle(closed, pattern, values, solver, error)
         if (allocated(error)) return
-        call solver%factorise(pattern, values, error)
-        if (allocated(error)) return
-        do j = 1, pattern%n      ! row 61, multiplier 1, all zero
-            do p = pattern%colptr(j) + 1, pattern%colptr(j + 1)
-                if (pattern%rowind(p) == 60) values(p) = 0.0_dp
-            end do
-        end do
+        call set_row(pattern, values, 61, 0.0_dp)      ! multiplier 1, all zero
         call solver%update_rows(pattern, values, done, error)
         if (allocated(error)) return
         call check(error, .not. done, 'update to a singular matrix declined')
@@ -633,9 +626,7 @@ contains
         logical :: closed(40), done, refused
         closed = .false.
         closed([4, 9]) = .true.
-        call saddle_system(closed, pattern, values, error)
-        if (allocated(error)) return
-        call solver%factorise(pattern, values, error)
+        call factorised_saddle(closed, pattern, values, solver, error)
         if (allocated(error)) return
         call saddle_system(closed, pattern, values, error)
         if (allocated(error)) return
@@ -658,22 +649,15 @@ contains
         type(umfpack_t) :: solver
         real(dp), allocatable :: values(:), original(:)
         logical :: closed(40), done, refused
-        integer :: j, p
         closed = .false.
-        call saddle_system(closed, pattern, values, error)
-        if (allocated(error)) return
-        call solver%factorise(pattern, values, error)
+        call factorised_saddle(closed, pattern, values, solver, error)
         if (allocated(error)) return
         original = values
         closed(3) = .true.
         call saddle_system(closed, pattern, values, error)
         if (allocated(error)) return
-        do j = 1, pattern%n      ! row 63 (multiplier 3), its entry in column 3
-            do p = pattern%colptr(j) + 1, pattern%colptr(j + 1)
-                if (pattern%rowind(p) == 62 .and. j == 3) &
-                    values(p) = ieee_value(1.0_dp, ieee_quiet_nan)
-            end do
-        end do
+        ! row 63 (multiplier 3), its entry in column 3
+        call set_row(pattern, values, 63, ieee_value(1.0_dp, ieee_quiet_nan), 3)
         call solver%update_rows(pattern, values, done, error, refused)
         if (allocated(error)) return
         call check(error, refused .and. .not. done .and. .not. solver%is_updated(), &
@@ -681,6 +665,36 @@ contains
         if (allocated(error)) return
         call check_against_dgesv(solver, pattern, original, 'x of the factorised matrix', error)
     end subroutine test_row_update_nan
+
+    !> saddle_system(closed), factorised by solver.
+    subroutine factorised_saddle(closed, pattern, values, solver, error)
+        logical, intent(in) :: closed(:)
+        type(sparse_pattern_t), intent(inout) :: pattern
+        real(dp), allocatable, intent(inout) :: values(:)
+        type(umfpack_t), intent(inout) :: solver
+        type(error_t), allocatable, intent(out) :: error
+        call saddle_system(closed, pattern, values, error)
+        if (allocated(error)) return
+        call solver%factorise(pattern, values, error)
+    end subroutine factorised_saddle
+
+    !> The stored entries of row `row` (1-based) set to `value`; with `column`, that one only.
+    subroutine set_row(pattern, values, row, value, column)
+        type(sparse_pattern_t), intent(in) :: pattern
+        real(dp), intent(inout) :: values(:)
+        integer, intent(in) :: row
+        real(dp), intent(in) :: value
+        integer, intent(in), optional :: column
+        integer :: j, p
+        do j = 1, pattern%n
+            if (present(column)) then
+                if (j /= column) cycle
+            end if
+            do p = pattern%colptr(j) + 1, pattern%colptr(j + 1)
+                if (pattern%rowind(p) == row - 1) values(p) = value
+            end do
+        end do
+    end subroutine set_row
 
     !> The dense matrix held by a compressed-column pattern and its values.
     function to_dense(pattern, values) result(a)
