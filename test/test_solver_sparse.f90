@@ -44,7 +44,8 @@ contains
                 new_unittest('row_update_declined_beyond_rank', test_row_update_rank), &
                 new_unittest('row_update_declined_when_singular', test_row_update_singular), &
                 new_unittest('row_update_of_the_factorised_matrix', test_row_update_none), &
-                new_unittest('row_update_refused_when_not_finite', test_row_update_nan) &
+                new_unittest('row_update_refused_when_not_finite', test_row_update_nan), &
+                new_unittest('row_update_refused_when_w_overflows', test_row_update_inf) &
                 ]
     end subroutine collect_solver_sparse
 
@@ -665,6 +666,45 @@ contains
         if (allocated(error)) return
         call check_against_dgesv(solver, pattern, original, 'x of the factorised matrix', error)
     end subroutine test_row_update_nan
+
+    !> A base solve that overflows: diag(1e-310, 1e-310) is perfectly conditioned (UMFPACK's
+    !> rcond 1) but A0^-1 e_1 = 1e310 is Inf in double precision. Changing row 1 needs that
+    !> column of w: the update is refused before LAPACK (overflow not halting during the
+    !> update, as in the release build; the halting modes and flags restored after).
+    subroutine test_row_update_inf(error)
+        use, intrinsic :: ieee_arithmetic, only: ieee_get_halting_mode, &
+                                                 ieee_set_halting_mode, ieee_set_flag, &
+                                                 ieee_overflow, ieee_invalid, ieee_usual, &
+                                                 ieee_is_finite
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), parameter :: tiny_value = 1.0e-310_dp
+        type(sparse_pattern_t) :: pattern
+        type(umfpack_t) :: solver
+        real(dp), allocatable :: values(:)
+        real(dp) :: x(2)
+        logical :: done, refused, halting(2)
+        call build_pattern(pattern, 2, [1, 2, 3], [1, 2], error)
+        if (allocated(error)) return
+        allocate (values(pattern%nnz), source=tiny_value)
+        call solver%factorise(pattern, values, error)
+        if (allocated(error)) return
+        call check(error, solver%rcond(), 1.0_dp, 'rcond of diag(1e-310, 1e-310)', rel=1e-12_dp)
+        if (allocated(error)) return
+        call ieee_get_halting_mode([ieee_overflow, ieee_invalid], halting)
+        call ieee_set_halting_mode([ieee_overflow, ieee_invalid], .false.)
+        call solver%solve(pattern, values, [1.0_dp, 0.0_dp], x, error)  ! A0^-1 e_1
+        if (.not. allocated(error)) then
+            values(1) = 2.0_dp*tiny_value
+            call solver%update_rows(pattern, values, done, error, refused)
+        end if
+        call ieee_set_flag(ieee_usual, .false.)
+        call ieee_set_halting_mode([ieee_overflow, ieee_invalid], halting)
+        if (allocated(error)) return
+        call check(error, .not. ieee_is_finite(x(1)), 'A0^-1 e_1 overflows')
+        if (allocated(error)) return
+        call check(error, refused .and. .not. done .and. .not. solver%is_updated(), &
+                   'an update whose column of w overflows refused')
+    end subroutine test_row_update_inf
 
     !> saddle_system(closed), factorised by solver.
     subroutine factorised_saddle(closed, pattern, values, solver, error)
