@@ -6,12 +6,14 @@ module test_contact_mortar
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t
     use cfrd_testing, only: unittest_t, new_unittest, check, fail
-    use cfrd_model, only: model_t, material_t, stage_t, stage_load, gravity_load_t, &
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+    use cfrd_model, only: model_t, material_t, stage_t, stage_load, stage_wait, gravity_load_t, &
                           contact_surface_t, contact_pair_t, scheme_mortar, scheme_nts, &
                           search_linear, search_rpim
     use cfrd_results, only: results_t
     use cfrd_stage_driver, only: run_analysis
-    use cfrd_test_models, only: new_model, elastic_material, edge_traction
+    use cfrd_test_models, only: new_model, elastic_material, edge_traction, add_pressure
+    use cfrd_duncan_eb, only: eb_params_t, eb_linear_moduli
     use cfrd_contact_roles, only: assign_roles
     implicit none
     private
@@ -35,7 +37,8 @@ contains
                 new_unittest('roles_rule', test_roles_rule), &
                 new_unittest('incline_roles_swapped_sticks', test_incline_swapped_stick), &
                 new_unittest('incline_roles_swapped_slides', test_incline_swapped_slide), &
-                new_unittest('lift_off_over_settlement', test_lift_off) &
+                new_unittest('lift_off_over_settlement', test_lift_off), &
+                new_unittest('creeping_block_under_slab', test_creeping_block) &
                 ]
     end subroutine collect_contact_mortar
 
@@ -451,4 +454,88 @@ contains
             write (text, '(f8.3)') v
         end function num
     end subroutine test_lift_off
+
+    !> tools/check_creep.py's contact-closed case built in code (docs/robustness.md, "The
+    !> empty row update"): a slab (0.2 m, 24 kN/m3) on a creeping block 2 x 1 m, held
+    !> laterally, its E-B law made linear as EFFECTS ROCKFILL LINEAR does (the moduli at pa,
+    !> IIIB of the paper's Table 3), volumetric creep only (MC = 0.001), pressed by 500 kPa
+    !> over 10 increments, then 4 years of WAIT. The LOAD increments after the first solve
+    !> the matrix factorised (linear, the contact rows unchanged) through it: one
+    !> factorisation, 9 updates, nothing declined (before: an empty row update, XERBLA's
+    !> message and 9 factorisations). Settlement of the slab's top since the load against the
+    !> closed form of a held block whose vertical stress the load fixes,
+    !> H (1 + nu)/(3 (1 - nu)) eps_v(t), eps_v(t) = b (sigma3/pa)^mc (1 - exp(-alpha t)),
+    !> sigma3 = nu/(1 - nu) p, within the check's tolerance 5e-3; no NaN anywhere.
+    subroutine test_creeping_block(error)
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), parameter :: pa = 101.325_dp, alpha = 0.01_dp, b = 0.003_dp, &
+                               mc = 0.001_dp, height = 1.0_dp, p_top = 500.0_dp
+        real(dp), parameter :: day(4) = [0.0_dp, 100.0_dp, 366.0_dp, 1461.0_dp]
+        type(model_t) :: model
+        type(results_t) :: results
+        type(material_t) :: block
+        real(dp) :: nu, p, ev_final, want, worst
+        integer :: i, k
+        block%label = 'creeping block'
+        block%k_modulus = 564.0_dp
+        block%n_exponent = 0.35_dp
+        block%failure_ratio = 0.85_dp
+        block%k_bulk = 204.0_dp
+        block%m_exponent = 0.18_dp
+        block%phi0 = 51.0_dp
+        block%dphi = 13.0_dp
+        block%sigma3_floor = 0.1_dp*pa
+        call eb_linear_moduli(eb_params_t(k=block%k_modulus, n=block%n_exponent, &
+                                          kb=block%k_bulk, m=block%m_exponent, pa=pa, &
+                                          sigma3_floor=block%sigma3_floor), &
+                              block%youngs_modulus, block%poisson_ratio)
+        block%creep = .true.
+        block%creep_alpha = alpha
+        block%creep_b = b
+        block%creep_mc = mc
+        block%creep_l = 1.0_dp
+        call stacked_blocks(model, 2, 1, 2, 1, 2.0_dp, height, 0.2_dp, block, &
+                            elastic_material(3.0e7_dp, 0.2_dp, 24.0_dp), 0.5_dp, scheme_mortar)
+        model%contact_pairs(1)%cast = .true.
+        model%fixed(:, 1:3) = .true.
+        model%fixed(1, 4:12) = .true.
+        call add_pressure(model, 3, 3, p_top, p_top)
+        call add_pressure(model, 4, 3, p_top, p_top)
+        model%load_sets(1)%gravity = [gravity_load_t(group=0, ax=0.0_dp, ay=-1.0_dp)]
+        model%stages = [stage_t(kind=stage_load, load_set=1, increments=10, label='LOAD', &
+                                date='2000-01-01', day=day(1)), &
+                        (stage_t(kind=stage_wait, increments=10, label='WAIT', date='', &
+                                 day=day(i)), i=2, 4)]
+        call run_analysis(model, results, error)
+        if (allocated(error)) return
+        associate (load => results%stages(1))
+            write (*, '(a,i0,a,i0,a,i0)') '  LOAD: factorisations ', load%factorisations, &
+                ', updates ', load%stats%updates, ', declined ', load%stats%updates_declined
+            call check(error, load%factorisations == 1 .and. load%stats%updates == 9 .and. &
+                       load%stats%updates_declined == 0, 'LOAD: 1 factorisation, 9 updates '// &
+                       'through it, none declined')
+            if (allocated(error)) return
+        end associate
+        nu = block%poisson_ratio
+        p = p_top + 24.0_dp*0.2_dp
+        ev_final = b*(nu/(1.0_dp - nu)*p/pa)**mc
+        worst = 0.0_dp
+        do i = 1, size(results%stages)
+            if (.not. all(ieee_is_finite(results%stages(i)%displacement_total))) then
+                call fail(error, 'a displacement not finite at stage '//achar(48 + i))
+                return
+            end if
+            if (i == 1) cycle
+            want = height*(1.0_dp + nu)/(3.0_dp*(1.0_dp - nu))*ev_final* &
+                   (1.0_dp - exp(-alpha*(results%stages(i)%day - day(1))))
+            do k = 10, 12
+                worst = max(worst, abs(-(results%stages(i)%displacement_total(2, k) - &
+                                         results%stages(1)%displacement_total(2, k)) - want)/want)
+            end do
+        end do
+        write (*, '(a,es9.2)') '  slab top settlement since the load, worst relative error ', &
+            worst
+        call check(error, worst, 0.0_dp, 'settlement against H (1+nu)/(3(1-nu)) eps_v(t)', &
+                   abs=5.0e-3_dp)
+    end subroutine test_creeping_block
 end module test_contact_mortar

@@ -42,7 +42,10 @@ contains
                 new_unittest('quad_grid_matches_dense', test_quad_grid), &
                 new_unittest('row_update_matches_dgesv', test_row_update), &
                 new_unittest('row_update_declined_beyond_rank', test_row_update_rank), &
-                new_unittest('row_update_declined_when_singular', test_row_update_singular) &
+                new_unittest('row_update_declined_when_singular', test_row_update_singular), &
+                new_unittest('row_update_of_the_factorised_matrix', test_row_update_none), &
+                new_unittest('row_update_refused_when_not_finite', test_row_update_nan), &
+                new_unittest('row_update_refused_when_w_overflows', test_row_update_inf) &
                 ]
     end subroutine collect_solver_sparse
 
@@ -600,23 +603,138 @@ contains
         type(umfpack_t) :: solver
         real(dp), allocatable :: values(:)
         logical :: closed(40), done
-        integer :: j, p
         closed = .false.
-        call saddle_system(closed, pattern, values, error)
+        call factorised_saddle(closed, pattern, values, solver, error)
         if (allocated(error)) return
-        call solver%factorise(pattern, values, error)
-        if (allocated(error)) return
-        do j = 1, pattern%n      ! row 61, multiplier 1, all zero
-            do p = pattern%colptr(j) + 1, pattern%colptr(j + 1)
-                if (pattern%rowind(p) == 60) values(p) = 0.0_dp
-            end do
-        end do
+        call set_row(pattern, values, 61, 0.0_dp)      ! multiplier 1, all zero
         call solver%update_rows(pattern, values, done, error)
         if (allocated(error)) return
         call check(error, .not. done, 'update to a singular matrix declined')
         if (allocated(error)) return
         call expect_singular(solver, pattern, values, error)
     end subroutine test_row_update_singular
+
+    !> The matrix factorised, unchanged (an increment of a linear model whose contact rows
+    !> stay as they were, docs/robustness.md "The empty row update"): no row differs, so the
+    !> update is done without a capacitance matrix (an empty one reached LAPACK's dgecon with
+    !> the norm -huge, XERBLA's message on standard output, and the same matrix was
+    !> factorised again); the solves are the factorisation's own, against dgesv to 1e-12.
+    subroutine test_row_update_none(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(sparse_pattern_t) :: pattern
+        type(umfpack_t) :: solver
+        real(dp), allocatable :: values(:)
+        logical :: closed(40), done, refused
+        closed = .false.
+        closed([4, 9]) = .true.
+        call factorised_saddle(closed, pattern, values, solver, error)
+        if (allocated(error)) return
+        call saddle_system(closed, pattern, values, error)
+        if (allocated(error)) return
+        call solver%update_rows(pattern, values, done, error, refused)
+        if (allocated(error)) return
+        call check(error, done .and. .not. refused .and. .not. solver%is_updated(), &
+                   'the unchanged matrix: update done, not refused, the factors'' own solves')
+        if (allocated(error)) return
+        call check_against_dgesv(solver, pattern, values, 'x of the unchanged matrix', error)
+    end subroutine test_row_update_none
+
+    !> A changed row with a NaN (a contact row built from a non-finite state): the
+    !> capacitance matrix is not finite, so the update is refused before LAPACK sees it
+    !> (no error: the caller factorises, and the factorisation judges the matrix); the
+    !> solves stay those of the factorised matrix (dgesv, 1e-12).
+    subroutine test_row_update_nan(error)
+        use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
+        type(error_t), allocatable, intent(out) :: error
+        type(sparse_pattern_t) :: pattern
+        type(umfpack_t) :: solver
+        real(dp), allocatable :: values(:), original(:)
+        logical :: closed(40), done, refused
+        closed = .false.
+        call factorised_saddle(closed, pattern, values, solver, error)
+        if (allocated(error)) return
+        original = values
+        closed(3) = .true.
+        call saddle_system(closed, pattern, values, error)
+        if (allocated(error)) return
+        ! row 63 (multiplier 3), its entry in column 3
+        call set_row(pattern, values, 63, ieee_value(1.0_dp, ieee_quiet_nan), 3)
+        call solver%update_rows(pattern, values, done, error, refused)
+        if (allocated(error)) return
+        call check(error, refused .and. .not. done .and. .not. solver%is_updated(), &
+                   'an update with a NaN refused')
+        if (allocated(error)) return
+        call check_against_dgesv(solver, pattern, original, 'x of the factorised matrix', error)
+    end subroutine test_row_update_nan
+
+    !> A base solve that overflows: diag(1e-310, 1e-310) is perfectly conditioned (UMFPACK's
+    !> rcond 1) but A0^-1 e_1 = 1e310 is Inf in double precision. Changing row 1 needs that
+    !> column of w: the update is refused before LAPACK (overflow not halting during the
+    !> update, as in the release build; the halting modes and flags restored after).
+    subroutine test_row_update_inf(error)
+        use, intrinsic :: ieee_arithmetic, only: ieee_get_halting_mode, &
+                                                 ieee_set_halting_mode, ieee_set_flag, &
+                                                 ieee_overflow, ieee_invalid, ieee_usual, &
+                                                 ieee_is_finite
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), parameter :: tiny_value = 1.0e-310_dp
+        type(sparse_pattern_t) :: pattern
+        type(umfpack_t) :: solver
+        real(dp), allocatable :: values(:)
+        real(dp) :: x(2)
+        logical :: done, refused, halting(2)
+        call build_pattern(pattern, 2, [1, 2, 3], [1, 2], error)
+        if (allocated(error)) return
+        allocate (values(pattern%nnz), source=tiny_value)
+        call solver%factorise(pattern, values, error)
+        if (allocated(error)) return
+        call check(error, solver%rcond(), 1.0_dp, 'rcond of diag(1e-310, 1e-310)', rel=1e-12_dp)
+        if (allocated(error)) return
+        call ieee_get_halting_mode([ieee_overflow, ieee_invalid], halting)
+        call ieee_set_halting_mode([ieee_overflow, ieee_invalid], .false.)
+        call solver%solve(pattern, values, [1.0_dp, 0.0_dp], x, error)  ! A0^-1 e_1
+        if (.not. allocated(error)) then
+            values(1) = 2.0_dp*tiny_value
+            call solver%update_rows(pattern, values, done, error, refused)
+        end if
+        call ieee_set_flag(ieee_usual, .false.)
+        call ieee_set_halting_mode([ieee_overflow, ieee_invalid], halting)
+        if (allocated(error)) return
+        call check(error, .not. ieee_is_finite(x(1)), 'A0^-1 e_1 overflows')
+        if (allocated(error)) return
+        call check(error, refused .and. .not. done .and. .not. solver%is_updated(), &
+                   'an update whose column of w overflows refused')
+    end subroutine test_row_update_inf
+
+    !> saddle_system(closed), factorised by solver.
+    subroutine factorised_saddle(closed, pattern, values, solver, error)
+        logical, intent(in) :: closed(:)
+        type(sparse_pattern_t), intent(inout) :: pattern
+        real(dp), allocatable, intent(inout) :: values(:)
+        type(umfpack_t), intent(inout) :: solver
+        type(error_t), allocatable, intent(out) :: error
+        call saddle_system(closed, pattern, values, error)
+        if (allocated(error)) return
+        call solver%factorise(pattern, values, error)
+    end subroutine factorised_saddle
+
+    !> The stored entries of row `row` (1-based) set to `value`; with `column`, that one only.
+    subroutine set_row(pattern, values, row, value, column)
+        type(sparse_pattern_t), intent(in) :: pattern
+        real(dp), intent(inout) :: values(:)
+        integer, intent(in) :: row
+        real(dp), intent(in) :: value
+        integer, intent(in), optional :: column
+        integer :: j, p
+        do j = 1, pattern%n
+            if (present(column)) then
+                if (j /= column) cycle
+            end if
+            do p = pattern%colptr(j) + 1, pattern%colptr(j + 1)
+                if (pattern%rowind(p) == row - 1) values(p) = value
+            end do
+        end do
+    end subroutine set_row
 
     !> The dense matrix held by a compressed-column pattern and its values.
     function to_dense(pattern, values) result(a)

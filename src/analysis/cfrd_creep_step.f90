@@ -10,7 +10,7 @@ module cfrd_creep_step
     use cfrd_kinds, only: dp
     use cfrd_model, only: model_t, material_t, law_duncan_eb
     use cfrd_assembly, only: element_box_t
-    use cfrd_duncan_eb, only: eb_tangent, eb_state_t
+    use cfrd_duncan_eb, only: eb_tangent, eb_state_t, eb_level_state
     use cfrd_material_law, only: eb_parameters, material_tangent
     use cfrd_rockfill_creep, only: creep_params_t, creep_strain_increment, final_strain_step
     implicit none
@@ -91,7 +91,7 @@ contains
         real(dp), intent(in) :: stress(:, :, :), strain(:, :, :), history(:, :, :)
         real(dp), intent(inout) :: reached(:, :, :)
         real(dp), intent(inout) :: creep_stress(:, :, :)
-        real(dp) :: d(4, 4), d_strain(4), bulk, shear
+        real(dp) :: d(4, 4), d_strain(4), bulk, shear, sigma3, level, ss
         type(eb_state_t) :: law_state
         integer :: e, ig
         do e = 1, model%mesh%nelem
@@ -99,25 +99,35 @@ contains
             associate (mat => model%materials(model%mesh%material(e)))
                 if (.not. merge(mat%wetting, mat%creep, wetting)) cycle
                 do ig = 1, library(model%mesh%kind(e))%element%gauss_points()
-                    ! sigma3 and the stress level of the E-B law at this point
-                    call eb_tangent(eb_parameters(mat, model%pa), stress(:, ig, e), &
-                                    history(1, ig, e), d, law_state)
-                    ! the tangent that relaxes the stresses: bulk and shear moduli (of an
-                    ! E-B material the matrix just taken, material_tangent's)
-                    if (mat%law /= law_duncan_eb) &
+                    ! sigma3 and the stress level of the E-B law at this point, and the
+                    ! tangent that relaxes the stresses (its bulk and shear moduli): an E-B
+                    ! material's from the one evaluation of the law; a material EFFECTS
+                    ! ROCKFILL LINEAR made elastic keeps its E-B state (the creep law's
+                    ! input) but relaxes by its own elastic tangent, the stiffness it is
+                    ! solved with (the E-B tangent there is not a duplicate: far softer,
+                    ! docs/robustness.md, "The empty row update")
+                    if (mat%law == law_duncan_eb) then
+                        call eb_tangent(eb_parameters(mat, model%pa), stress(:, ig, e), &
+                                        history(1, ig, e), d, law_state)
+                        sigma3 = law_state%sigma3
+                        level = law_state%level
+                    else
+                        call eb_level_state(eb_parameters(mat, model%pa), stress(:, ig, e), &
+                                            level, ss, sigma3)
                         call material_tangent(mat, model%pa, stress(:, ig, e), &
                                               strain(:, ig, e), history(:, ig, e), d)
+                    end if
                     bulk = (d(1, 1) + 2.0_dp*d(1, 2))/3.0_dp
                     shear = d(4, 4)
                     if (wetting) then
                         call final_strain_step(wetting_parameters(mat, model%pa), &
-                                               stress(:, ig, e), law_state%sigma3, &
-                                               law_state%level, amount, reached(1, ig, e), &
+                                               stress(:, ig, e), sigma3, &
+                                               level, amount, reached(1, ig, e), &
                                                reached(2, ig, e), d_strain, bulk, shear)
                     else
                         call creep_strain_increment(creep_parameters(mat, model%pa), &
-                                                    stress(:, ig, e), law_state%sigma3, &
-                                                    law_state%level, amount, &
+                                                    stress(:, ig, e), sigma3, &
+                                                    level, amount, &
                                                     reached(1, ig, e), reached(2, ig, e), &
                                                     d_strain, bulk, shear)
                     end if

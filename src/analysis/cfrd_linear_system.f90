@@ -186,7 +186,7 @@ contains
         logical, intent(in) :: update
         real(dp), allocatable :: ke(:, :)
         real(dp) :: t0
-        logical :: done
+        logical :: done, refused
         integer :: c, g, m, attempt
         do attempt = 1, 2
             t0 = wall_seconds()
@@ -215,12 +215,15 @@ contains
             result%stats%t_assembly = result%stats%t_assembly + (wall_seconds() - t0)
             if (update .and. attempt == 1) then
                 t0 = wall_seconds()
-                call system%solver%update_rows(system%pattern, system%values, done, error)
+                call system%solver%update_rows(system%pattern, system%values, done, error, &
+                                               refused)
                 if (allocated(error)) then
                     error%message = context//': '//error%message
                     return
                 end if
                 result%stats%t_update = result%stats%t_update + (wall_seconds() - t0)
+                ! a non-finite update declined before LAPACK: factorised instead, counted
+                if (refused) result%stats%updates_declined = result%stats%updates_declined + 1
                 if (done) then
                     result%stats%updates = result%stats%updates + 1
                     return

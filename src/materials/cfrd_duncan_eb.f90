@@ -123,15 +123,18 @@ contains
     !> The stress level S (capped, as eb_tangent takes it) and the stress-state function
     !> SS = S (sigma3/pa)^(1/4) of one stress (tension positive), from one evaluation of
     !> the principal stresses and the strength: what a point's history needs
-    !> (cfrd_material_law: update_history), without the tangent matrix.
-    pure subroutine eb_level_state(p, stress, level, ss)
+    !> (cfrd_material_law: update_history), without the tangent matrix. `minor`: sigma3
+    !> (compression positive, not floored), as eb_tangent's state has it.
+    pure subroutine eb_level_state(p, stress, level, ss, minor)
         type(eb_params_t), intent(in) :: p
         real(dp), intent(in) :: stress(4)
         real(dp), intent(out) :: level, ss
+        real(dp), intent(out), optional :: minor
         real(dp) :: sigma1, sigma3
         call eb_principal(stress, sigma1, sigma3)
         level = stress_level(p, sigma1, sigma3)
         ss = level*sqrt(sqrt(max(sigma3, p%sigma3_floor)/p%pa))
+        if (present(minor)) minor = sigma3
     end subroutine eb_level_state
 
     !> How many sub-steps the midpoint update from `stress` to about `trial` (its forward

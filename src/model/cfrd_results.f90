@@ -30,7 +30,8 @@ module cfrd_results
         !> matrices solved through an earlier factorisation by a low-rank row update instead
         !> of a numeric factorisation of their own (contact active-set iterations)
         integer :: updates = 0
-        !> updated solves that missed UMFPACK's accuracy, so that the matrix was factorised
+        !> updated solves that missed UMFPACK's accuracy, and row updates refused for a
+        !> non-finite w or capacitance matrix, so that the matrix was factorised
         integer :: updates_declined = 0
         !> nonzeros of L + U (UMFPACK) or L (CHOLMOD) of the last numeric factorisation
         integer :: lu_nnz = 0

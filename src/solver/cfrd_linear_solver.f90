@@ -166,15 +166,18 @@ contains
     end subroutine factorise
 
     !> UMFPACK's row update (umfpack_t%update_rows); never done on a CHOLMOD factorisation.
-    subroutine update_rows(self, pattern, values, done, error)
+    !> `refused`: declined for a non-finite w or capacitance matrix.
+    subroutine update_rows(self, pattern, values, done, error, refused)
         class(linear_solver_t), intent(inout) :: self
         type(sparse_pattern_t), intent(in) :: pattern
         real(dp), intent(in) :: values(:)
         logical, intent(out) :: done
         type(error_t), allocatable, intent(out) :: error
+        logical, intent(out), optional :: refused
         done = .false.
+        if (present(refused)) refused = .false.
         if (self%llt_factorised) return
-        call self%lu%update_rows(pattern, values, done, error)
+        call self%lu%update_rows(pattern, values, done, error, refused)
     end subroutine update_rows
 
     !> x = A^-1 b with the kept factorisation (or UMFPACK's updated one).

@@ -7,6 +7,7 @@
 !> (update_rows) instead of a new numeric factorisation.
 module cfrd_umfpack
     use, intrinsic :: iso_c_binding, only: c_int, c_double, c_ptr, c_null_ptr, c_associated
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, numerical_error
     use cfrd_sparse, only: sparse_pattern_t
@@ -284,18 +285,26 @@ contains
     !> Sherman-Morrison-Woodbury formula; one solve with the factors per row that differs for
     !> the first time since the factorisation). `done` is false, and the solves stay those of
     !> the factorised matrix, when more rows differ, when there is no factorisation, or when
-    !> the update is ill-conditioned: the caller then factorises `values`.
-    subroutine update_rows(self, pattern, values, done, error)
+    !> the update is ill-conditioned: the caller then factorises `values`. `refused` (also
+    !> not done) when a column of w or the capacitance matrix is not finite: the update is
+    !> declined before LAPACK sees it. When no row differs and none did before, `values` is
+    !> the factorised matrix: done, and the solves are the factorisation's own (nothing to
+    !> update: an empty capacitance matrix would reach LAPACK's dgecon with the norm of an
+    !> empty matrix, -huge, and a factorisation of the same values would give the same
+    !> factors; docs/robustness.md, "The empty row update").
+    subroutine update_rows(self, pattern, values, done, error, refused)
         class(umfpack_t), intent(inout) :: self
         type(sparse_pattern_t), intent(in) :: pattern
         real(dp), intent(in) :: values(:)
         logical, intent(out) :: done
         type(error_t), allocatable, intent(out) :: error
+        logical, intent(out), optional :: refused
         integer, allocatable :: slot(:)
         real(dp), allocatable :: unit_column(:)
         real(dp) :: anorm, rcond_s, work(4*max_update_rank)
         integer :: iwork(max_update_rank), rank, j, p, k, nd, status
         done = .false.
+        if (present(refused)) refused = .false.
         self%updated = .false.
         if (.not. c_associated(self%numeric) .or. .not. allocated(self%base)) return
         call check_sizes(pattern, values, error)
@@ -318,6 +327,10 @@ contains
             slot(pattern%rowind(p) + 1) = rank
             self%rows(rank) = pattern%rowind(p) + 1
         end do
+        if (rank == 0) then             ! the factorised matrix itself
+            done = .true.
+            return
+        end if
         if (.not. allocated(self%w)) then
             allocate (self%w(pattern%n, max_update_rank))
         else if (size(self%w, 1) /= pattern%n) then
@@ -331,6 +344,10 @@ contains
             unit_column(self%rows(k)) = 0.0_dp
             if (allocated(error)) then
                 self%rank = 0
+                return
+            end if
+            if (.not. all(ieee_is_finite(self%w(:, k)))) then
+                if (present(refused)) refused = .true.
                 return
             end if
             self%rank = k
@@ -358,11 +375,20 @@ contains
                 s(self%d_slot(p), :) = s(self%d_slot(p), :) + &
                                        self%d_value(p)*self%w(self%d_col(p), 1:rank)
             end do
+            ! before any comparison with its entries (a NaN would trap in the debug build)
+            if (.not. all(ieee_is_finite(s))) then
+                if (present(refused)) refused = .true.
+                return
+            end if
             do k = 1, rank
                 self%row_factor(k) = 1.0_dp/max(maxval(abs(s(k, :))), tiny(1.0_dp))
                 s(k, :) = self%row_factor(k)*s(k, :)
             end do
             anorm = maxval(sum(abs(s), dim=1))
+            if (.not. ieee_is_finite(anorm)) then
+                if (present(refused)) refused = .true.
+                return
+            end if
         end associate
         call dgetrf(rank, rank, self%capacitance, max_update_rank, self%pivots, status)
         if (status /= 0) return
