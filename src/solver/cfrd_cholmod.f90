@@ -34,7 +34,7 @@ module cfrd_cholmod
 
     !> Equations from which a varying tangent's pattern is ordered by nested dissection
     !> (ordering_for) [choice, measured: docs/performance.md (y)].
-    integer, parameter :: nesdis_from = 10000
+    integer, parameter :: nesdis_from = 50000
 
     ! cfrd_cholmod_shim.c's status codes (CHOLMOD's).
     integer(c_int), parameter :: cholmod_ok = 0, cholmod_not_posdef = 1
@@ -268,13 +268,13 @@ contains
         if (.not. from%analysed) return
         self%handle = cfrd_cholmod_copy(from%handle)
         if (.not. c_associated(self%handle)) return
+        self%analysed = .true.
         self%ordering = from%ordering
         self%n = from%n
+        ! the upper triangle's pattern (its values are set by each factorise)
         self%up_colptr = from%up_colptr
         self%up_rowind = from%up_rowind
         self%up_from = from%up_from
-        self%up_values = from%up_values
-        self%analysed = .true.
     end subroutine copy_analysis
 
     logical function is_analysed(self)
@@ -365,7 +365,8 @@ contains
         self%factorised = .false.
         self%n = -1
         if (allocated(self%up_colptr)) deallocate (self%up_colptr)
-        if (allocated(self%up_rowind)) deallocate (self%up_rowind, self%up_from, self%up_values)
+        if (allocated(self%up_rowind)) deallocate (self%up_rowind, self%up_from)
+        if (allocated(self%up_values)) deallocate (self%up_values)
     end subroutine release
 
     !> Exchange the analyses and factorisations of two objects, freeing neither (a
