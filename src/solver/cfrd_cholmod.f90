@@ -33,8 +33,10 @@ module cfrd_cholmod
     real(dp), parameter :: symmetry_tolerance = 1.0e-12_dp
 
     !> Equations from which a varying tangent's pattern is ordered by nested dissection
-    !> (ordering_for) [choice, measured: docs/performance.md (y)].
-    integer, parameter :: nesdis_from = 50000
+    !> (ordering_for) [choice]: above every deck measured (docs/performance.md (y): AMD
+    !> cost no more CPU time than NESDIS on every history up to 2e5 equations); NESDIS is
+    !> left to larger meshes, where its fill saving grows, untested.
+    integer, parameter :: nesdis_from = 250000
 
     ! cfrd_cholmod_shim.c's status codes (CHOLMOD's).
     integer(c_int), parameter :: cholmod_ok = 0, cholmod_not_posdef = 1
@@ -131,9 +133,9 @@ contains
     !> nested dissection's (CHOLMOD's own default also starts from AMD and tries METIS only
     !> where AMD's fill is poor, cholmod_core.h `nmethods`) and its larger factor does not
     !> cost that back in one factorisation at any size measured (10^3 to 10^5 quads).
-    !> NESDIS otherwise (tangents that change every increment, tens of factorisations per
-    !> pattern) from `nesdis_from` equations on, where its smaller factor pays its dearer
-    !> analysis back over the factorisations; AMD below.
+    !> For tangents that change every increment (tens of factorisations per pattern) AMD as
+    !> well below `nesdis_from` equations (measured no dearer on every history up to 2e5
+    !> equations), NESDIS from there on.
     pure integer function ordering_for(neq, constant_tangent) result(ordering)
         integer, intent(in) :: neq
         logical, intent(in) :: constant_tangent
