@@ -9,7 +9,8 @@ SHELL := /bin/bash
 # resolution and the fast regression decks (0.5 s, below the knee).
 DECK ?= inputs/tianshengqiao.dat
 APT_PACKAGES := gfortran gcc libsuitesparse-dev libhdf5-dev libdeflate-dev liblapack-dev \
-                libblas-dev pkg-config calculix-ccx libopenblas0-pthread
+                libblas-dev pkg-config calculix-ccx libopenblas0-pthread libopenblas-pthread-dev \
+                libmetis-dev
 PIP_PACKAGES := fpm numpy scipy matplotlib h5py tomli meshio
 # Only for make slurm-check (CI): a private one-node Slurm cluster.
 SLURM_APT_PACKAGES := slurmctld slurmd slurm-client munge
@@ -32,11 +33,24 @@ fpm = FPM_LDFLAGS="$(4) $(HDF5_LDIRS) $(OPENMP_FLAGS)" fpm $(1) --profile $(2) -
 # took half of the process start (docs/performance.md (r)). Without the archives the
 # folder stays empty and the shared libraries are linked as before.
 HDF5_LIBDIR = $(patsubst -L%,%,$(firstword $(HDF5_LDIRS)))
-STATIC_HDF5 = build/static-hdf5
+STATIC_LIBS = build/static-libs
 # libdeflate (HDF5's deflate filter computed by libdeflate, src/io/cfrd_h5_deflate.c) is
 # linked from its archive into the release program the same way (one shared object fewer
 # to load); the debug build and the tests link libdeflate.so.
 DEFLATE_ARCHIVE = $(shell gcc -print-file-name=libdeflate.a 2>/dev/null)
+# So are SuiteSparse (libsuitesparse-dev's archives) and OpenBLAS (libopenblas-pthread-dev's
+# libopenblas.a, BLAS and LAPACK in one archive, linked under the names lapack and blas):
+# the shared OpenBLAS alone made the loader resolve some 20,000 symbol relocations at
+# every start, about a tenth of a small deck's run (docs/performance.md (r), (y)). The
+# same library versions as the shared objects: the same kernels, the same bits. METIS
+# stays shared (Debian ships no archive of it). cfrd_blas_threads finds OpenBLAS's thread
+# controls by dlsym: linked statically, they are pulled in and exported by name.
+SUITESPARSE_ARCHIVES = umfpack cholmod amd camd colamd ccolamd suitesparseconfig
+OPENBLAS_ARCHIVE = $(shell gcc -print-file-name=libopenblas.a 2>/dev/null)
+comma := ,
+OPENBLAS_CONTROLS = openblas_set_num_threads blas_thread_shutdown_
+STATIC_BLAS_LDFLAGS = $(if $(wildcard $(OPENBLAS_ARCHIVE)),$(foreach f,$(OPENBLAS_CONTROLS),\
+                      -Wl$(comma)-u$(comma)$(f) -Wl$(comma)--export-dynamic-symbol=$(f)))
 
 DECKS ?= $(wildcard inputs/*.dat)
 OUT ?= batch-results
@@ -51,12 +65,22 @@ deps:
 
 ## build: release build, program at bin/cfrd
 build: deps
-	@mkdir -p build $(STATIC_HDF5)
+	@mkdir -p build $(STATIC_LIBS)
 	@if [ -f "$(HDF5_LIBDIR)/libhdf5.a" ] && [ -f "$(HDF5_LIBDIR)/libhdf5_fortran.a" ]; then \
-	  ln -sf "$(HDF5_LIBDIR)/libhdf5.a" $(STATIC_HDF5)/libhdf5_serial.a; \
-	  ln -sf "$(HDF5_LIBDIR)/libhdf5_fortran.a" $(STATIC_HDF5)/libhdf5_serial_fortran.a; fi
-	@if [ -f "$(DEFLATE_ARCHIVE)" ]; then ln -sf "$(DEFLATE_ARCHIVE)" $(STATIC_HDF5)/libdeflate.a; fi
-	@$(call fpm,install,release,$(RELEASE_FLAGS),-L$(CURDIR)/$(STATIC_HDF5)) --prefix "$(CURDIR)" --bindir bin \
+	  ln -sf "$(HDF5_LIBDIR)/libhdf5.a" $(STATIC_LIBS)/libhdf5_serial.a; \
+	  ln -sf "$(HDF5_LIBDIR)/libhdf5_fortran.a" $(STATIC_LIBS)/libhdf5_serial_fortran.a; fi
+	@if [ -f "$(DEFLATE_ARCHIVE)" ]; then ln -sf "$(DEFLATE_ARCHIVE)" $(STATIC_LIBS)/libdeflate.a; fi
+	@for l in $(SUITESPARSE_ARCHIVES); do a=$$(gcc -print-file-name=lib$$l.a); \
+	  if [ -f "$$a" ]; then ln -sf "$$a" $(STATIC_LIBS)/lib$$l.a; fi; done
+	@if [ -f "$(OPENBLAS_ARCHIVE)" ]; then ln -sf "$(OPENBLAS_ARCHIVE)" $(STATIC_LIBS)/liblapack.a; \
+	  ln -sf "$(OPENBLAS_ARCHIVE)" $(STATIC_LIBS)/libblas.a; fi
+	@# fpm relinks only when an object changes: a changed link (flags, archives) removes
+	@# the linked program so that it is linked again
+	@{ echo "$(STATIC_BLAS_LDFLAGS)"; ls -l $(STATIC_LIBS) | grep -o 'lib[^ ]*\.a ->.*'; } \
+	  >build/release-link.new; cmp -s build/release-link.new build/release-link || \
+	  { rm -f build/gfortran_*/app/cfrd; mv build/release-link.new build/release-link; }
+	@$(call fpm,install,release,$(RELEASE_FLAGS),-L$(CURDIR)/$(STATIC_LIBS) $(STATIC_BLAS_LDFLAGS)) \
+	  --prefix "$(CURDIR)" --bindir bin \
 	  >build/release.log 2>&1 || { cat build/release.log; exit 1; }
 
 ## build-debug: debug build with every runtime check, program at build/debug-bin/cfrd.

@@ -7,7 +7,8 @@ module test_solver_cholmod
     use cfrd_error, only: error_t
     use cfrd_testing, only: unittest_t, new_unittest, check
     use cfrd_sparse, only: sparse_pattern_t, build_pattern, assemble_element
-    use cfrd_cholmod, only: mirror_positions, symmetric_values, symmetry_tolerance
+    use cfrd_cholmod, only: cholmod_t, mirror_positions, symmetric_values, symmetry_tolerance, &
+                            ordering_for, ordering_amd, ordering_metis, ordering_nesdis
     use cfrd_linear_solver, only: linear_solver_t, linear_solver_auto, linear_solver_cholmod, &
                                   linear_solver_umfpack
     use cfrd_linear_system, only: system_t, factorise_values
@@ -29,7 +30,10 @@ contains
                 new_unittest('indefinite_goes_to_umfpack', test_indefinite), &
                 new_unittest('unsymmetric_goes_to_umfpack', test_unsymmetric), &
                 new_unittest('forced_cholmod_is_an_error', test_forced), &
-                new_unittest('factorise_values_counts', test_counts) &
+                new_unittest('factorise_values_counts', test_counts), &
+                new_unittest('bar_each_ordering', test_orderings), &
+                new_unittest('ordering_by_what_pays', test_ordering_rule), &
+                new_unittest('kept_analysis_copied', test_kept_copy) &
                 ]
     end subroutine collect_solver_cholmod
 
@@ -296,5 +300,98 @@ contains
         call check(error, maxval(abs(x(1:4) - 1.0_dp/3.0_dp)), 0.0_dp, &
                    'x = (1/3, 1/3) of each block by UMFPACK', abs=1.0e-14_dp)
     end subroutine test_counts
+
+    !> The bar of test_bar_both by cholmod_t under each fill-reducing ordering (AMD, METIS,
+    !> NESDIS): the closed form u = q (L x - x^2/2) / EA at every node, each time.
+    subroutine test_orderings(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(sparse_pattern_t) :: pattern
+        type(cholmod_t) :: llt
+        real(dp), allocatable :: values(:), b(:), exact(:), x(:)
+        integer :: k
+        integer, parameter :: n = 300, orderings(3) = [ordering_amd, ordering_metis, &
+                                                       ordering_nesdis]
+        character(len=6), parameter :: names(3) = [character(len=6) :: 'AMD', 'METIS', &
+                                                   'NESDIS']
+        logical :: positive
+        call bar(n, pattern, values, b, exact, error)
+        if (allocated(error)) return
+        allocate (x(n))
+        do k = 1, size(orderings)
+            call llt%set_ordering(orderings(k))
+            call llt%analyse(pattern, error)
+            if (allocated(error)) return
+            call llt%factorise(pattern, values, positive, error)
+            if (allocated(error)) return
+            call check(error, positive, 'the bar is positive definite')
+            if (allocated(error)) return
+            call llt%solve(b, x, error)
+            if (allocated(error)) return
+            call check(error, maxval(abs(x - exact)), 0.0_dp, &
+                       'bar under uniform load against u = q (L x - x^2/2) / EA, ordering '// &
+                       trim(names(k)), &
+                       abs=1.0e-11_dp*maxval(abs(exact)))
+            if (allocated(error)) return
+            call llt%release()
+        end do
+    end subroutine test_orderings
+
+    !> The ordering rule (docs/performance.md (y)): AMD for a constant tangent at any size,
+    !> and for a varying one up to the largest measured (2e5 equations); NESDIS for a
+    !> varying tangent beyond.
+    subroutine test_ordering_rule(error)
+        type(error_t), allocatable, intent(out) :: error
+        call check(error, ordering_for(200000, .true.), ordering_amd, &
+                   'constant tangent, 200,000 equations: AMD')
+        if (allocated(error)) return
+        call check(error, ordering_for(2000, .false.), ordering_amd, &
+                   'varying tangent, 2,000 equations: AMD')
+        if (allocated(error)) return
+        call check(error, ordering_for(200000, .false.), ordering_amd, &
+                   'varying tangent, 200,000 equations: AMD')
+        if (allocated(error)) return
+        call check(error, ordering_for(300000, .false.), ordering_nesdis, &
+                   'varying tangent, 300,000 equations: NESDIS')
+    end subroutine test_ordering_rule
+
+    !> keep, then a second matrix (2 K) factorised with a copy of the kept analysis (no
+    !> second analysis: factorise_values counts one), then restore: each solve against the
+    !> bar's closed form (x / 2 for 2 K).
+    subroutine test_kept_copy(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(system_t) :: system
+        type(stage_result_t) :: result
+        real(dp), allocatable :: b(:), exact(:), x(:), k_values(:)
+        logical :: kept
+        call bar(60, system%pattern, k_values, b, exact, error)
+        if (allocated(error)) return
+        allocate (x(60))
+        call system%solver%configure(linear_solver_auto, .true.)
+        system%values = k_values
+        call factorise_values(system, result, 'test', error)
+        if (allocated(error)) return
+        call system%solver%keep(kept)
+        call check(error, kept, 'a CHOLMOD factorisation is kept')
+        if (allocated(error)) return
+        system%values = 2.0_dp*k_values
+        call factorise_values(system, result, 'test', error)
+        if (allocated(error)) return
+        call check(error, result%stats%analyses, 1, 'analyses: the kept one copied, not redone')
+        if (allocated(error)) return
+        call check(error, system%solver%is_cholesky(), 'the copy factorised by CHOLMOD')
+        if (allocated(error)) return
+        call system%solver%solve(system%pattern, system%values, b, x, error)
+        if (allocated(error)) return
+        call check(error, maxval(abs(2.0_dp*x - exact)), 0.0_dp, &
+                   'bar of stiffness 2 EA with the copied analysis against the closed form', &
+                   abs=1.0e-11_dp*maxval(abs(exact)))
+        if (allocated(error)) return
+        call system%solver%restore()
+        call system%solver%solve(system%pattern, k_values, b, x, error)
+        if (allocated(error)) return
+        call check(error, maxval(abs(x - exact)), 0.0_dp, &
+                   'bar with the kept factorisation taken back against the closed form', &
+                   abs=1.0e-11_dp*maxval(abs(exact)))
+    end subroutine test_kept_copy
 
 end module test_solver_cholmod

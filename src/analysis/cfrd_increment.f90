@@ -11,7 +11,7 @@ module cfrd_increment
     use cfrd_strings, only: to_text, real_text
     use cfrd_model, only: model_t, solver_midpoint, solver_euler, solver_newton
     use cfrd_results, only: stage_result_t
-    use cfrd_material_law, only: is_linear, update_history, material_update, &
+    use cfrd_material_law, only: all_linear, update_history, material_update, &
                                  material_update_tangent, material_tangent, update_substeps
     use cfrd_assembly, only: element_box_t, dof_map_t, assemble_tangent, internal_forces, &
                              gather, min_parallel
@@ -75,20 +75,6 @@ contains
         call factorise_values(system, result, context, error)
         system%factorised_linear = linear
     end subroutine factorise_at
-
-    pure logical function all_linear(model, active)
-        type(model_t), intent(in) :: model
-        logical, intent(in) :: active(:)
-        integer :: e
-        all_linear = .true.
-        do e = 1, model%mesh%nelem
-            if (.not. active(e)) cycle
-            if (.not. is_linear(model%materials(model%mesh%material(e)))) then
-                all_linear = .false.
-                return
-            end if
-        end do
-    end function all_linear
 
     !> One increment to the external load `f_target`: the right-hand side is the out-of-
     !> balance force f_target - f_int(sigma_n), so that the residual left by earlier increments

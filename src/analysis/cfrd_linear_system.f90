@@ -9,6 +9,7 @@ module cfrd_linear_system
     use cfrd_clock, only: wall_seconds
     use cfrd_strings, only: to_text
     use cfrd_model, only: model_t
+    use cfrd_material_law, only: all_linear
     use cfrd_results, only: stage_result_t
     use cfrd_sparse, only: sparse_pattern_t, build_pattern, assemble_element
     use cfrd_linear_solver, only: linear_solver_t
@@ -70,7 +71,8 @@ contains
         integer, allocatable :: dof_ptr(:), dofs(:), more(:)
         integer :: c, g, k, nelem, pos
         call system%solver%release()
-        call system%solver%configure(model%linear_solver, .not. has_contact)
+        call system%solver%configure(model%linear_solver, .not. has_contact, &
+                                     all_linear(model, active))
         call number_equations(model, library, active, system%dofmap)
         if (has_contact) then
             nelem = model%mesh%nelem

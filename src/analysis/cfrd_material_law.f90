@@ -6,7 +6,7 @@
 !> for (sigma_n, tau) and (du_n, du_s) and leaves 3-4 at zero.
 module cfrd_material_law
     use cfrd_kinds, only: dp
-    use cfrd_model, only: material_t, law_elastic, law_duncan_eb, law_goodman, law_pjoint
+    use cfrd_model, only: model_t, material_t, law_elastic, law_duncan_eb, law_goodman, law_pjoint
     use cfrd_elastic, only: elastic_dmatrix
     use cfrd_duncan_eb, only: eb_params_t, eb_tangent, eb_level_state, eb_moduli_gradient, &
                               eb_substeps
@@ -17,7 +17,7 @@ module cfrd_material_law
     private
 
     public :: nhistory, material_tangent, material_update, material_update_tangent
-    public :: update_history, is_linear, eb_parameters, goodman_parameters, stress_level
+    public :: update_history, is_linear, all_linear, eb_parameters, goodman_parameters, stress_level
     public :: update_substeps, max_substeps
 
     !> History values per Gauss point. E-B: (1) past maximum of Duncan's stress-state
@@ -37,6 +37,23 @@ contains
         type(material_t), intent(in) :: mat
         is_linear = mat%law == law_elastic
     end function is_linear
+
+    !> Whether every active element's law is linear: the tangent of the active set is
+    !> constant, factorised once per pattern (cfrd_increment; CHOLMOD's ordering,
+    !> cfrd_linear_system).
+    pure logical function all_linear(model, active)
+        type(model_t), intent(in) :: model
+        logical, intent(in) :: active(:)
+        integer :: e
+        all_linear = .true.
+        do e = 1, model%mesh%nelem
+            if (.not. active(e)) cycle
+            if (.not. is_linear(model%materials(model%mesh%material(e)))) then
+                all_linear = .false.
+                return
+            end if
+        end do
+    end function all_linear
 
     !> The E-B parameters of a material card, with the deck's atmospheric pressure.
     pure function eb_parameters(mat, pa) result(p)

@@ -1,6 +1,6 @@
 !> CHOLMOD (SuiteSparse) supernodal Cholesky factorisation L L^T for the symmetric positive
 !> definite stiffness matrices (issue 21), bound in two layers: private bind(C) interfaces
-!> to the five functions of cfrd_cholmod_shim.c (which owns CHOLMOD's structs, whose layout
+!> to the functions of cfrd_cholmod_shim.c (which owns CHOLMOD's structs, whose layout
 !> changes between versions), and a public `cholmod_t` that keeps the symbolic analysis
 !> for as long as the pattern holds, reads the upper triangle of the full pattern that
 !> cfrd assembles, and reports a matrix that is not positive definite (or too badly
@@ -17,7 +17,7 @@ module cfrd_cholmod
     implicit none
     private
 
-    public :: cholmod_t, mirror_positions, symmetric_values
+    public :: cholmod_t, mirror_positions, symmetric_values, ordering_for
     public :: ordering_amd, ordering_metis, ordering_nesdis, symmetry_tolerance
 
     !> CHOLMOD's ordering codes (cholmod_core.h).
@@ -31,6 +31,12 @@ module cfrd_cholmod
     !> this relative amount: the solutions of the two differ by less than the 1e-8 the
     !> results are held to.
     real(dp), parameter :: symmetry_tolerance = 1.0e-12_dp
+
+    !> Equations from which a varying tangent's pattern is ordered by nested dissection
+    !> (ordering_for) [choice]: above every deck measured (docs/performance.md (y): AMD
+    !> cost no more CPU time than NESDIS on every history up to 2e5 equations); NESDIS is
+    !> left to larger meshes, where its fill saving grows, untested.
+    integer, parameter :: nesdis_from = 250000
 
     ! cfrd_cholmod_shim.c's status codes (CHOLMOD's).
     integer(c_int), parameter :: cholmod_ok = 0, cholmod_not_posdef = 1
@@ -49,6 +55,7 @@ module cfrd_cholmod
     contains
         procedure :: set_ordering
         procedure :: analyse
+        procedure :: copy_analysis
         procedure :: is_analysed
         procedure :: factorise
         procedure :: solve
@@ -99,6 +106,11 @@ module cfrd_cholmod
             real(c_double), intent(out) :: x(*)
         end function cfrd_cholmod_solve
 
+        type(c_ptr) function cfrd_cholmod_copy(from) bind(C, name='cfrd_cholmod_copy')
+            import :: c_ptr
+            type(c_ptr), value :: from
+        end function cfrd_cholmod_copy
+
         subroutine cfrd_cholmod_free(handle) bind(C, name='cfrd_cholmod_free')
             import :: c_ptr
             type(c_ptr), value :: handle
@@ -114,6 +126,22 @@ contains
         if (self%ordering /= ordering) call self%release()
         self%ordering = ordering
     end subroutine set_ordering
+
+    !> The fill-reducing ordering that pays for a pattern (docs/performance.md (y),
+    !> docs/theory.md "The linear solver") [choice, measured]: AMD when its matrices have a
+    !> constant tangent, factorised once per pattern: AMD's analysis costs a fraction of the
+    !> nested dissection's (CHOLMOD's own default also starts from AMD and tries METIS only
+    !> where AMD's fill is poor, cholmod_core.h `nmethods`) and its larger factor does not
+    !> cost that back in one factorisation at any size measured (10^3 to 10^5 quads).
+    !> For tangents that change every increment (tens of factorisations per pattern) AMD as
+    !> well below `nesdis_from` equations (measured no dearer on every history up to 2e5
+    !> equations), NESDIS from there on.
+    pure integer function ordering_for(neq, constant_tangent) result(ordering)
+        integer, intent(in) :: neq
+        logical, intent(in) :: constant_tangent
+        ordering = ordering_amd
+        if (.not. constant_tangent .and. neq >= nesdis_from) ordering = ordering_nesdis
+    end function ordering_for
 
     !> For each entry p of the pattern, the position of its transpose (0: none stored; a
     !> diagonal entry is its own).
@@ -231,6 +259,26 @@ contains
         self%analysed = .true.
     end subroutine analyse
 
+    !> The analysis of `from` (the same pattern and ordering) copied into self, whose own is
+    !> released: the same factor as an analysis of its own, without the ordering's cost
+    !> (cfrd_linear_solver's keep). Nothing is copied, and self is left without an
+    !> analysis, when `from` has none or memory runs out: factorise then analyses.
+    subroutine copy_analysis(self, from)
+        class(cholmod_t), intent(inout) :: self
+        type(cholmod_t), intent(in) :: from
+        call self%release()
+        if (.not. from%analysed) return
+        self%handle = cfrd_cholmod_copy(from%handle)
+        if (.not. c_associated(self%handle)) return
+        self%analysed = .true.
+        self%ordering = from%ordering
+        self%n = from%n
+        ! the upper triangle's pattern (its values are set by each factorise)
+        self%up_colptr = from%up_colptr
+        self%up_rowind = from%up_rowind
+        self%up_from = from%up_from
+    end subroutine copy_analysis
+
     logical function is_analysed(self)
         class(cholmod_t), intent(in) :: self
         is_analysed = self%analysed
@@ -319,7 +367,8 @@ contains
         self%factorised = .false.
         self%n = -1
         if (allocated(self%up_colptr)) deallocate (self%up_colptr)
-        if (allocated(self%up_rowind)) deallocate (self%up_rowind, self%up_from, self%up_values)
+        if (allocated(self%up_rowind)) deallocate (self%up_rowind, self%up_from)
+        if (allocated(self%up_values)) deallocate (self%up_values)
     end subroutine release
 
     !> Exchange the analyses and factorisations of two objects, freeing neither (a

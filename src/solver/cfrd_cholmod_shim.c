@@ -1,4 +1,4 @@
-/* CHOLMOD (SuiteSparse) behind five plain C functions for cfrd_cholmod.f90 (issue 21).
+/* CHOLMOD (SuiteSparse) behind a few plain C functions for cfrd_cholmod.f90 (issue 21).
  *
  * cholmod_common and cholmod_factor are C structs whose layout changes between CHOLMOD
  * versions; binding them field by field from Fortran would break silently with the next
@@ -20,6 +20,8 @@ typedef struct {
     cholmod_factor *l;   /* symbolic, then numeric (supernodal LL^T) */
     cholmod_dense *x, *y, *e;   /* cholmod_solve2's reused workspace */
 } cfrd_cholmod_t;
+
+void cfrd_cholmod_free(void *handle);
 
 /* A new handle with one ordering (2 AMD, 3 METIS, 4 NESDIS: CHOLMOD's codes), supernodal,
  * silent; NULL when out of memory. */
@@ -64,6 +66,27 @@ int cfrd_cholmod_analyse(void *handle, int n, const int *ap, const int *ai)
     h->l = cholmod_analyze(h->a, &h->common);
     if (h->l == NULL) return h->common.status < 0 ? h->common.status : CHOLMOD_INVALID;
     return h->common.status < 0 ? h->common.status : CHOLMOD_OK;
+}
+
+/* A new handle holding a copy of `from`'s analysis (its pattern and its factor, which a
+ * numeric factorisation overwrites whole: the same as an analysis of the same pattern,
+ * which depends on the pattern and the ordering alone). NULL when `from` has no analysis
+ * or memory runs out. */
+void *cfrd_cholmod_copy(void *from)
+{
+    cfrd_cholmod_t *f = from, *h;
+    if (f == NULL || f->a == NULL || f->l == NULL) return NULL;
+    h = cfrd_cholmod_new(f->common.method[0].ordering);
+    if (h == NULL) return NULL;
+    h->a = cholmod_copy_sparse(f->a, &h->common);
+    if (h->a != NULL) h->l = cholmod_copy_factor(f->l, &h->common);
+    if (h->a == NULL || h->l == NULL) {
+        cfrd_cholmod_free(h);
+        return NULL;
+    }
+    h->common.lnz = f->common.lnz;   /* the analysis's statistics (factor_nonzeros) */
+    h->common.fl = f->common.fl;
+    return h;
 }
 
 /* Numeric factorisation of the values ax (the analysed pattern's). Returns 0 ok, 1 not

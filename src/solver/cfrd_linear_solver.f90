@@ -12,7 +12,7 @@ module cfrd_linear_solver
     use cfrd_error, only: error_t, fatal_error, numerical_error
     use cfrd_sparse, only: sparse_pattern_t
     use cfrd_umfpack, only: umfpack_t
-    use cfrd_cholmod, only: cholmod_t, mirror_positions, symmetric_values
+    use cfrd_cholmod, only: cholmod_t, mirror_positions, symmetric_values, ordering_for
     implicit none
     private
 
@@ -33,6 +33,9 @@ module cfrd_linear_solver
         integer :: choice = linear_solver_auto
         !> the system has no contact multipliers: its matrices may be positive definite
         logical :: may_be_spd = .true.
+        !> the tangent is constant (linear laws): one factorisation per pattern, which
+        !> decides CHOLMOD's ordering (cfrd_cholmod's ordering_for)
+        logical :: constant_tangent = .false.
         integer, allocatable :: mirror(:)    !! mirror_positions of the pattern
         logical :: use_llt = .false.         !! the current matrix goes to CHOLMOD
         logical :: llt_factorised = .false.  !! the kept factorisation is CHOLMOD's
@@ -62,14 +65,18 @@ module cfrd_linear_solver
 
 contains
 
-    !> The choice (linear_solver_auto, _cholmod, _umfpack) and whether the system's
-    !> matrices may be positive definite at all (false with contact multipliers).
-    subroutine configure(self, choice, may_be_spd)
+    !> The choice (linear_solver_auto, _cholmod, _umfpack), whether the system's
+    !> matrices may be positive definite at all (false with contact multipliers), and
+    !> whether its tangent is constant (factorised once per pattern; default false).
+    subroutine configure(self, choice, may_be_spd, constant_tangent)
         class(linear_solver_t), intent(inout) :: self
         integer, intent(in) :: choice
         logical, intent(in) :: may_be_spd
+        logical, intent(in), optional :: constant_tangent
         self%choice = choice
         self%may_be_spd = may_be_spd
+        self%constant_tangent = .false.
+        if (present(constant_tangent)) self%constant_tangent = constant_tangent
     end subroutine configure
 
     !> UMFPACK's row scaling (umfpack_t%set_row_scaling).
@@ -126,6 +133,7 @@ contains
         real(dp), intent(in) :: values(:)
         type(error_t), allocatable, intent(out) :: error
         if (self%use_llt) then
+            call self%llt%set_ordering(ordering_for(pattern%n, self%constant_tangent))
             call self%llt%analyse(pattern, error)
         else
             call self%lu%analyse(pattern, values, error)
@@ -227,14 +235,16 @@ contains
     end function is_cholesky
 
     !> Set the current factorisation aside when it is CHOLMOD's (`kept`), so that restore
-    !> can take it back; the next one is analysed and factorised in the other CHOLMOD
-    !> object (the analysis depends on the pattern alone: the same factors, bit for bit).
+    !> can take it back; the next one is factorised in the other CHOLMOD object, with a copy
+    !> of the kept one's analysis the first time (the analysis depends on the pattern and
+    !> the ordering alone: the same factors, bit for bit, without a second ordering).
     subroutine keep(self, kept)
         class(linear_solver_t), intent(inout) :: self
         logical, intent(out) :: kept
         kept = self%llt_factorised
         if (.not. kept) return
         call self%llt%exchange(self%spare)
+        if (.not. self%llt%is_analysed()) call self%llt%copy_analysis(self%spare)
         self%spare_factorised = .true.
         self%llt_factorised = .false.
     end subroutine keep
