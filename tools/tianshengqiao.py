@@ -924,6 +924,11 @@ def main(argv=None):
                          " --interface; the rule cfrd's summary checks, docs/theory.md s. 13;"
                          " a warning and 8 when even 8 does not meet it: bonded and contact,"
                          " docs/tianshengqiao.md s. 11.5)")
+    ap.add_argument("--contact-elements", default=None, metavar="N1,N2,N3",
+                    help="--interface contact: the slab's own elements along the slope per"
+                         " phase at x1 in place of the geometry file's contact_elements (for"
+                         " the study of docs/tianshengqiao.md s. 11.5: 11,9,6 with --face 8"
+                         " or --refine 8 meets a <= pi / (6 lambda), which 8,8,4 does not)")
     ap.add_argument("--face-band", type=int, default=6,
                     help="with --face: the first N body columns from the upstream face (1: IIA,"
                          " 2: IIA and IIIA, more: IIIB columns of about 11.6 m at x1; default 6,"
@@ -939,6 +944,15 @@ def main(argv=None):
     base.creep = args.creep
     if args.top_rows is not None:
         base.top_rows = args.top_rows
+    if args.contact_elements is not None:
+        counts = [int(n) for n in args.contact_elements.split(",")]
+        if len(counts) != len(base.v("slab", "phase_tops")) or min(counts) < 1:
+            ap.error("--contact-elements: one count of at least 1 per slab phase, e.g. 11,9,6")
+        base.raw["interface"]["contact_elements"] = {
+            "value": counts, "source": "choice",
+            "note": "slab elements along the slope per phase in the contact mesh, set by"
+                    " --contact-elements in place of the geometry file's"}
+        base.list_sources()
     if args.plinth and args.all:
         ap.error("--plinth writes one deck: leave out --all (the decks in inputs/ have none)")
     if args.knee and args.refine is not None:
