@@ -13,6 +13,7 @@ module test_analysis_slab
     use cfrd_body_extremes, only: body_extremes
     use cfrd_beam_foundation, only: vesic_modulus, decay_rate, decay_radius
     use cfrd_stage_driver, only: run_analysis
+    use cfrd_listing, only: resolution_note
     use cfrd_test_models, only: new_model, elastic_material
     use test_analysis_slab_clamp, only: test_clamped_slab, slab_on_winkler
     implicit none
@@ -30,7 +31,8 @@ contains
                  new_unittest('extremes_without_singular_points', test_extremes), &
                  new_unittest('vesic_worked_example', test_vesic), &
                  new_unittest('skewed_columns_are_sections', test_skewed_columns), &
-                 new_unittest('clamped_slab_moment', test_clamped_slab)]
+                 new_unittest('clamped_slab_moment', test_clamped_slab), &
+                 new_unittest('resolution_of_the_reported_section', test_resolution)]
     end subroutine collect_analysis_slab
 
     !> A slab 28 m long, h = 0.6 m thick in two layers of 56 Q4S quads each (0.5 m), on its
@@ -215,9 +217,7 @@ contains
         ! N/h = sigma_xx and M = 0 in each section (closed form of a uniform stress).
         stress = 0.0_dp
         stress(1, :, 1:3) = spread([900.0_dp, 500.0_dp, 700.0_dp], 1, 4)
-        call slab_stresses(model, stress, [(.true., i=1, 6)], slab)
-        call body_extremes(model, principal, [(.true., i=1, 6)], [(.true., i=1, 6)], slab, &
-                           ex, nodes, radius, why)
+        call all_active_extremes(model, stress, principal, slab, ex, nodes, radius, why)
         call check(error, size(nodes), 1, 'one singular node')
         if (allocated(error)) return
         call check(error, nodes(1), 1, 'the slab''s fixed corner')
@@ -331,4 +331,106 @@ contains
             if (allocated(error)) return
         end do
     end subroutine test_skewed_columns
+
+    !> The summary's check of the slab's resolution (docs/theory.md section 13): the element
+    !> length a along the slope at the section of the largest fibre stress against
+    !> pi / (6 lambda) of the radius. Constructed case: a slab of n quads a m long and
+    !> h = 0.25 m thick (E = 3e7 kPa, nu = 0.2) on a row of rockfill quads 1 m deep (E_s =
+    !> 1e4 kPa, nu_s = 0.3), bonded, the slab's lower corner (node 1) and the rockfill's
+    !> base fixed. Closed form of theory.md section 13, by hand: D = E h^3 / (12 (1 - nu^2))
+    !> = 40690.10 kN m, k = 0.65 (E_s / D)^(1/12) E_s / (1 - nu_s^2) = 6354.50 kPa/m (b = 1
+    !> m), pi / lambda = pi (4 D / k)^(1/4) = 7.0675 m (> 2 h), pi / (6 lambda) = 1.17792 m.
+    !> Uniform sigma_xx falling along the slab, 1000 - 10 i kPa in element i: the largest
+    !> fibre stress and N/h outside the radius are those of the first section beyond 7.07 m.
+    !> a = 1.0 m (n = 12): that section is a 1.0 m element, 1.0 <= 1.178: resolved.
+    !> a = 1.5 m (n = 8): 1.5 > 1.178: not resolved.
+    subroutine test_resolution(error)
+        type(error_t), allocatable, intent(out) :: error
+        real(dp) :: d, k, limit
+        d = 3.0e7_dp*0.25_dp**3/(12.0_dp*(1.0_dp - 0.2_dp**2))
+        k = 0.65_dp*(1.0e4_dp/d)**(1.0_dp/12.0_dp)*1.0e4_dp/(1.0_dp - 0.3_dp**2)
+        limit = 4.0_dp*atan(1.0_dp)*(4.0_dp*d/k)**0.25_dp/6.0_dp
+        call check(error, limit, 1.17792_dp, 'pi / (6 lambda), by hand', rel=1e-5_dp)
+        if (allocated(error)) return
+        call one_slab(12, 1.0_dp, 8, '  slab     resolution: resolved: a =  1.000 m (max'// &
+                      ' fibre),  1.000 m (max N/h) <= pi/(6 lambda) =  1.178 m')
+        if (allocated(error)) return
+        call one_slab(8, 1.5_dp, 6, '  slab     resolution: not resolved: a =  1.500 m >'// &
+                      ' pi/(6 lambda) =  1.178 m at the max fibre section')
+    contains
+        !> n slab elements of length a; the largest fibre stress expected at section j, the
+        !> listing's note expected to begin with `expected`.
+        subroutine one_slab(n, a, j, expected)
+            integer, intent(in) :: n, j
+            real(dp), intent(in) :: a
+            character(len=*), intent(in) :: expected
+            character(len=:), allocatable :: note
+            type(model_t) :: model
+            type(slab_result_t) :: slab
+            type(body_extremes_t), allocatable :: ex(:)
+            real(dp) :: xy(2, 3*(n + 1)), principal(3, 2*n), stress(4, 4, 2*n)
+            integer :: conn(4, 2*n), i, m
+            m = n + 1
+            ! Rows of n + 1 nodes at y = 0 (shared), 0.25 (slab top), -1 (rockfill base).
+            do i = 0, n
+                xy(:, i + 1) = [a*i, 0.0_dp]
+                xy(:, i + 1 + m) = [a*i, 0.25_dp]
+                xy(:, i + 1 + 2*m) = [a*i, -1.0_dp]
+            end do
+            do i = 1, n
+                conn(:, i) = [i, i + 1, i + 1 + m, i + m]
+                conn(:, i + n) = [i + 2*m, i + 1 + 2*m, i + 1, i]
+            end do
+            call new_model(model, xy, conn, [(1, i=1, n), (2, i=1, n)], &
+                           [elastic_material(3.0e7_dp, 0.2_dp, 0.0_dp), &
+                            elastic_material(1.0e4_dp, 0.3_dp, 0.0_dp)])
+            model%mesh%group(1:n) = 1
+            model%mesh%group_name = [character(len=10) :: 'SLAB']
+            model%slab_groups = [1]
+            allocate (model%interfaces(0))
+            model%fixed(:, 1) = .true.
+            model%fixed(:, 2*m + 1:3*m) = .true.
+            principal = 0.0_dp
+            stress = 0.0_dp
+            do i = 1, n
+                stress(1, :, i) = 1000.0_dp - 10.0_dp*i
+            end do
+            call all_active_extremes(model, stress, principal, slab, ex)
+            call check(error, ex(1)%max_section == j .and. ex(1)%max_membrane_section == j, &
+                       'the largest fibre stress and N/h at the first section beyond the radius')
+            if (allocated(error)) return
+            call check(error, ex(1)%fibre_length, a, 'element length at the max fibre', &
+                       rel=1e-12_dp)
+            if (allocated(error)) return
+            call check(error, ex(1)%membrane_length, a, 'element length at the max N/h', &
+                       rel=1e-12_dp)
+            if (allocated(error)) return
+            call check(error, ex(1)%resolution_limit, limit, 'pi / (6 lambda)', rel=1e-12_dp)
+            if (allocated(error)) return
+            note = resolution_note(ex(1))
+            call check(error, index(note, expected) == 1, 'the note: '//note)
+        end subroutine one_slab
+    end subroutine test_resolution
+
+    !> The slab's sections and the extremes per body of a model whose elements are all
+    !> active solids.
+    subroutine all_active_extremes(model, stress, principal, slab, ex, nodes, radius, why)
+        type(model_t), intent(in) :: model
+        real(dp), intent(in) :: stress(:, :, :), principal(:, :)
+        type(slab_result_t), intent(out) :: slab
+        type(body_extremes_t), allocatable, intent(out) :: ex(:)
+        integer, allocatable, intent(out), optional :: nodes(:)
+        real(dp), allocatable, intent(out), optional :: radius(:)
+        type(singular_radius_t), allocatable, intent(out), optional :: why(:)
+        integer, allocatable :: n(:)
+        real(dp), allocatable :: r(:)
+        type(singular_radius_t), allocatable :: w(:)
+        logical :: on(model%mesh%nelem)
+        on = .true.
+        call slab_stresses(model, stress, on, slab)
+        call body_extremes(model, principal, on, on, slab, ex, n, r, w)
+        if (present(nodes)) nodes = n
+        if (present(radius)) radius = r
+        if (present(why)) why = w
+    end subroutine all_active_extremes
 end module test_analysis_slab

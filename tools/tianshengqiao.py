@@ -32,6 +32,7 @@ import copy
 import datetime
 import math
 import re
+import sys
 import textwrap
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -56,6 +57,17 @@ INTERFACES = ("bonded", "joint", "thin", "contact")
 KNEE_DOC = "docs/accuracy-cost.md"
 
 
+# Geometry-file entries the decks do not depend on (used only to choose a mesh), kept out of
+# the decks' headers so that the decks in inputs/ stay what they are.
+NOT_IN_HEADER = {("slab", "decay_length")}
+FACES = (1, 2, 4, 8)
+# The longest slab element along the slope that resolves the slab's bending, as a fraction of
+# its decay length pi / lambda: a <= pi / (6 lambda) [choice, argued from the closed form:
+# Q4S rectangles within about 2 % of Hetenyi's clamped beam at lambda a <= 0.52,
+# analysis_slab/clamped_slab_moment; cfrd's summary checks the same, docs/theory.md s. 13].
+RESOLUTION_FRACTION = 1.0 / 6.0
+
+
 class Geometry:
     """Values of the geometry file; `sources` lists each with its source for the header."""
     creep = False   # --creep: CREEP cards, day dates, WAIT stages ([creep] of the file)
@@ -73,7 +85,7 @@ class Geometry:
     def list_sources(self):
         self.sources = [(f"{g}.{k}", i["value"], i["source"], i.get("note", ""))
                         for g in ("section", "slab", "interface", "zones", "mesh", "increments")
-                        for k, i in self.raw[g].items()]
+                        for k, i in self.raw[g].items() if (g, k) not in NOT_IN_HEADER]
         self.sources += [(f"materials.{k}", i["label"], i["source"], "")
                          for k, i in self.raw["materials"].items()]
 
@@ -825,6 +837,44 @@ def generate(r, geo=None, interface="bonded", face=None, face_band=6, plinth=Fal
     return geo, num, stages, notes
 
 
+def slab_lengths(num):
+    """Each slab element's length along the slope: its longer mid-line (cfrd's slab axis)."""
+    out = []
+    for q, c in zip(num.quads, num.conn):
+        if q.kind != "slab":
+            continue
+        p = num.xy[c - 1]
+        out.append(max(np.linalg.norm(p[1] + p[2] - p[0] - p[3]),
+                       np.linalg.norm(p[2] + p[3] - p[0] - p[1])) / 2.0)
+    return np.array(out)
+
+
+def auto_face(r, geo, interface, face_band, plinth, solver_note, normal_rings):
+    """--face auto: the smallest face factor F in {r..8} whose slab elements are all at most
+    pi / (6 lambda) long along the slope (pi / lambda: [slab] decay_length of the geometry
+    file for this interface); 8 with a warning when none is. Returns (F or None when F = r,
+    the generate() tuple, the header note)."""
+    decay = float(geo.v("slab", "decay_length")[interface])
+    limit = RESOLUTION_FRACTION * decay
+    for f in (f for f in FACES if f >= r):
+        made = generate(r, geo, interface, None if f == r else f, face_band, plinth,
+                        solver_note, normal_rings)
+        longest = float(slab_lengths(made[1]).max())
+        if longest <= limit:
+            break
+    met = longest <= limit
+    note = (f"--face auto: face factor {f}, the slab's elements at most {longest:.3f} m along"
+            f" the slope {'<=' if met else '>'} pi / (6 lambda) = {limit:.3f} m (pi / lambda ="
+            f" {decay:g} m, [slab] decay_length of the geometry file, {interface})"
+            + ("" if met else f": NOT met even at face factor {f}, the finest --face gives"))
+    if not met:
+        print(f"warning: --face auto: the {interface} slab's elements are up to {longest:.3f} m"
+              f" long at face factor {f} (x{r} body), more than pi / (6 lambda) = {limit:.3f} m:"
+              f" the slab's bending is not resolved by the rule (docs/tianshengqiao.md"
+              f" s. 11.5); writing face factor {f}", file=sys.stderr)
+    return (None if f == r else f), made, note
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--refine", type=int, default=None, choices=[1, 2, 4, 8],
@@ -865,10 +915,20 @@ def main(argv=None):
     ap.add_argument("--top-rows", type=int, default=None,
                     help="split the top row of slab phases I and II into this many mesh rows"
                          " (x1; refined with the rest)")
-    ap.add_argument("--face", type=int, default=None, choices=[1, 2, 4, 8],
+    ap.add_argument("--face", default=None, choices=[str(f) for f in FACES] + ["auto"],
                     help="face-resolved mesh (issue 7 experiment): every body row and the slab"
                          " divided in FACE per x1 row and element, the body's columns at the"
-                         " --refine level")
+                         " --refine level; auto: the smallest FACE from the --refine level to"
+                         " 8 whose slab elements are at most pi / (6 lambda) long along the"
+                         " slope (pi / lambda: the geometry file's [slab] decay_length for"
+                         " --interface; the rule cfrd's summary checks, docs/theory.md s. 13;"
+                         " a warning and 8 when even 8 does not meet it: bonded and contact,"
+                         " docs/tianshengqiao.md s. 11.5)")
+    ap.add_argument("--contact-elements", default=None, metavar="N1,N2,N3",
+                    help="--interface contact: the slab's own elements along the slope per"
+                         " phase at x1 in place of the geometry file's contact_elements (for"
+                         " the study of docs/tianshengqiao.md s. 11.5: 11,9,6 with --face 8"
+                         " or --refine 8 meets a <= pi / (6 lambda), which 8,8,4 does not)")
     ap.add_argument("--face-band", type=int, default=6,
                     help="with --face: the first N body columns from the upstream face (1: IIA,"
                          " 2: IIA and IIIA, more: IIIB columns of about 11.6 m at x1; default 6,"
@@ -884,6 +944,15 @@ def main(argv=None):
     base.creep = args.creep
     if args.top_rows is not None:
         base.top_rows = args.top_rows
+    if args.contact_elements is not None:
+        counts = [int(n) for n in args.contact_elements.split(",")]
+        if len(counts) != len(base.v("slab", "phase_tops")) or min(counts) < 1:
+            ap.error("--contact-elements: one count of at least 1 per slab phase, e.g. 11,9,6")
+        base.raw["interface"]["contact_elements"] = {
+            "value": counts, "source": "choice",
+            "note": "slab elements along the slope per phase in the contact mesh, set by"
+                    " --contact-elements in place of the geometry file's"}
+        base.list_sources()
     if args.plinth and args.all:
         ap.error("--plinth writes one deck: leave out --all (the decks in inputs/ have none)")
     if args.knee and args.refine is not None:
@@ -903,16 +972,23 @@ def main(argv=None):
         # Q4S slabs (the default, or --slab-element Q4S) get element ends normal to the
         # face: Q4S is not generated on skewed slab elements (issue 22). The contact slab's
         # own mesh is normal to the face with either element.
-        geo, num, stages, notes = generate(
-            r, geo, interface, args.face, args.face_band, args.plinth,
-            "midpoint method: out of balance once the perimetric joint opens (relative residual"
-            " up to 7 in the last water stage); use --solver newton (docs/tianshengqiao.md"
-            " s. 10)" if args.solver == "midpoint" else None,
-            interface == "contact" or slab_element == "Q4S")
+        solver_note = ("midpoint method: out of balance once the perimetric joint opens"
+                       " (relative residual up to 7 in the last water stage); use --solver"
+                       " newton (docs/tianshengqiao.md s. 10)" if args.solver == "midpoint"
+                       else None)
+        normal_rings = interface == "contact" or slab_element == "Q4S"
+        if args.face == "auto":
+            face, (geo, num, stages, notes), auto_note = auto_face(
+                r, geo, interface, args.face_band, args.plinth, solver_note, normal_rings)
+            notes = notes + [auto_note]
+        else:
+            face = None if args.face is None else int(args.face)
+            geo, num, stages, notes = generate(r, geo, interface, face, args.face_band,
+                                               args.plinth, solver_note, normal_rings)
         if path is not None:
             info = write_deck(geo, r, num, stages, notes, path, args.solver, interface,
                               args.rule, slab_element,
-                              None if args.face is None else f"x{r} body, x{args.face} face")
+                              None if face is None else f"x{r} body, x{face} face")
         else:
             info = describe(geo, r, num)
         if args.report or path is None:

@@ -228,9 +228,9 @@ contains
                   dv(4, ns), zeta(4, ns))
         if (ns == 0) then
             allocate (res%section_s(0), res%section_x(0), res%section_y(0), res%thickness(0), &
-                      res%axial(0), res%shear(0), res%moment(0), res%sigma_water(0), &
-                      res%sigma_cushion(0), res%tensile_strength(0), res%crack_ratio(0), &
-                      res%section_active(0))
+                      res%length(0), res%axial(0), res%shear(0), res%moment(0), &
+                      res%sigma_water(0), res%sigma_cushion(0), res%tensile_strength(0), &
+                      res%crack_ratio(0), res%section_active(0))
             return
         end if
         ns = 0
@@ -288,9 +288,9 @@ contains
             section_of(order(i)) = nsec
         end do
         allocate (res%section_s(nsec), res%section_x(nsec), res%section_y(nsec), &
-                  res%thickness(nsec), res%axial(nsec), res%shear(nsec), res%moment(nsec), &
-                  res%sigma_water(nsec), res%sigma_cushion(nsec), res%tensile_strength(nsec), &
-                  res%crack_ratio(nsec), source=0.0_dp)
+                  res%thickness(nsec), res%length(nsec), res%axial(nsec), res%shear(nsec), &
+                  res%moment(nsec), res%sigma_water(nsec), res%sigma_cushion(nsec), &
+                  res%tensile_strength(nsec), res%crack_ratio(nsec), source=0.0_dp)
         allocate (res%section_active(nsec), source=.true.)
         do j = 1, nsec
             area = 0.0_dp
@@ -317,6 +317,7 @@ contains
             res%section_y(j) = res%section_y(j)/m
             ! Mean element length along the axis, then the thickness h = area / L.
             res%thickness(j) = res%thickness(j)/m
+            res%length(j) = res%thickness(j)
             do i = 1, ns
                 if (section_of(i) /= j) cycle
                 res%axial(j) = res%axial(j) + sum(res%sigma_t(:, i)*dv(:, i))

@@ -12,7 +12,7 @@ module cfrd_listing
                           is_joint_kind, scheme_name, search_name, scheme_mortar
     use cfrd_contact, only: friction_group_ratio
     use cfrd_contact_roles, only: mean_face
-    use cfrd_results, only: stage_result_t
+    use cfrd_results, only: stage_result_t, body_extremes_t
     use cfrd_stage_summary, only: stage_summary_t
     use cfrd_columns, only: csv_real, date_of, level_of, run_id_comment
     use cfrd_interface_io, only: write_opening_history, write_slab_history, &
@@ -26,7 +26,7 @@ module cfrd_listing
     implicit none
     private
 
-    public :: write_listing, write_summary, write_gauge_csv
+    public :: write_listing, write_summary, write_gauge_csv, resolution_note
 
     character(len=*), parameter :: rule = repeat('-', 100)
 
@@ -517,6 +517,7 @@ contains
                         stage%slab%section_x(ex%max_membrane_section), &
                         stage%slab%section_y(ex%max_membrane_section), &
                         '  (section; membrane stress N/A, the mean of the two fibres)'
+                    write (unit, '(a)') resolution_note(ex)
                 end if
             end associate
         end do
@@ -550,6 +551,37 @@ contains
             end if
         end associate
     end subroutine write_body_extremes
+
+    !> The summary's line on whether the slab's elements at the sections of its largest
+    !> fibre stress and N/h resolve its bending (docs/theory.md section 13): their length
+    !> along the slope a against pi / (6 lambda) of the stage's largest radius.
+    pure function resolution_note(ex) result(text)
+        type(body_extremes_t), intent(in) :: ex
+        character(len=:), allocatable :: text
+        character(len=*), parameter :: see = ', docs/tianshengqiao.md 11.5'
+        character(len=300) :: line
+        if (ex%resolution_limit <= 0.0_dp) then
+            text = '  '//ex%body//' resolution: not judged (pi/lambda not known: no slab node'// &
+                   ' on a support with a rockfill element beside it)'
+            return
+        end if
+        if (max(ex%fibre_length, ex%membrane_length) <= ex%resolution_limit) then
+            write (line, '(a,2(f7.3,a),f7.3,a)') ' resolution: resolved: a =', &
+                ex%fibre_length, ' m (max fibre),', ex%membrane_length, &
+                ' m (max N/h) <= pi/(6 lambda) =', ex%resolution_limit, &
+                ' m, the slab element along the slope (docs/theory.md section 13)'
+        else if (ex%fibre_length > ex%resolution_limit) then
+            write (line, '(a,2(f7.3,a),f7.3,a)') ' resolution: not resolved: a =', &
+                ex%fibre_length, ' m > pi/(6 lambda) =', ex%resolution_limit, &
+                ' m at the max fibre section (max N/h:', ex%membrane_length, &
+                ' m), fibre stresses not converged'//see
+        else
+            write (line, '(a,2(f7.3,a),f7.3,a)') ' resolution: max fibre resolved (a =', &
+                ex%fibre_length, ' m); max N/h not resolved: a =', ex%membrane_length, &
+                ' m > pi/(6 lambda) =', ex%resolution_limit, ' m'//see
+        end if
+        text = '  '//ex%body//trim(line)
+    end function resolution_note
 
     function centroid_of(model, e) result(c)
         type(model_t), intent(in) :: model

@@ -113,6 +113,7 @@ module cfrd_results
         real(dp), allocatable :: section_s(:)         !! (nsection) m, centre along the axis
         real(dp), allocatable :: section_x(:), section_y(:)   !! (nsection) m
         real(dp), allocatable :: thickness(:)         !! (nsection) m
+        real(dp), allocatable :: length(:)            !! (nsection) m, mean element length along the axis
         real(dp), allocatable :: axial(:)             !! (nsection) N, kN/m, tension +
         real(dp), allocatable :: shear(:)             !! (nsection) V, kN/m
         real(dp), allocatable :: moment(:)            !! (nsection) M, kN m/m, tension on the water side +
@@ -137,6 +138,11 @@ module cfrd_results
         integer :: max_membrane_section = 0           !! slab: section of the largest N/h
         real(dp) :: max_membrane = 0.0_dp             !! slab: kPa, the membrane stress N/h there
         integer :: left_out = 0                       !! active elements left out
+        !> slab: m, the element length along the axis at the max fibre and max N/h sections
+        real(dp) :: fibre_length = 0.0_dp, membrane_length = 0.0_dp
+        !> slab: m, pi / (6 lambda) of the largest radius (0: lambda not known), the longest
+        !> element that resolves the slab's bending (docs/theory.md section 13)
+        real(dp) :: resolution_limit = 0.0_dp
     end type body_extremes_t
 
     !> How the radius around one singular node was found (docs/theory.md
