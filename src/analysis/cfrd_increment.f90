@@ -390,18 +390,16 @@ contains
         type(error_t), allocatable, intent(out) :: error
         real(dp), allocatable :: b(:), x(:)
         real(dp) :: t0, rtol
-        integer :: node, k, iterations
+        integer :: iterations
         logical :: converged
         t0 = wall_seconds()
         call assemble_tangent(model, library, state%active, system%pattern, stress, &
                               state%strain, state%history, system%values, tangents)
         result%stats%t_assembly = result%stats%t_assembly + (wall_seconds() - t0)
         allocate (b(system%pattern%n), x(system%pattern%n))
-        do node = 1, model%mesh%nnode
-            do k = 1, 2
-                if (system%dofmap%eq(k, node) > 0) b(system%dofmap%eq(k, node)) = rhs(k, node)
-            end do
-        end do
+        associate (eq => system%dofmap%eq)
+            b(pack(eq, eq > 0)) = pack(rhs, eq > 0)
+        end associate
         call system%solver%set_refinement(.false.)
         ! Not in the first iteration, whose kept factorisation is the midpoint corrector's:
         ! measured, GMRES hardly ever reaches krylov_rtol with it (docs/performance.md (z)).
@@ -428,17 +426,14 @@ contains
             error%message = context//': '//error%message
             return
         end if
-        if (.not. all(ieee_is_finite(x))) then
-            call fatal_error(error, context//': the solution is not finite (singular '// &
-                             'stiffness matrix?)', numerical_error)
-            return
+        if (all(ieee_is_finite(x))) then
+            associate (eq => system%dofmap%eq)
+                ddu = unpack(x(pack(eq, eq > 0)), eq > 0, 0.0_dp)
+            end associate
+        else
+            call fatal_error(error, context//': the Newton correction is not finite', &
+                             numerical_error)
         end if
-        allocate (ddu(2, model%mesh%nnode), source=0.0_dp)
-        do node = 1, model%mesh%nnode
-            do k = 1, 2
-                if (system%dofmap%eq(k, node) > 0) ddu(k, node) = x(system%dofmap%eq(k, node))
-            end do
-        end do
     end subroutine newton_correction
 
     !> du = du_p + K^-1 (f_target - f_int(stress + D B du_p)) on the free dofs: the prescribed
