@@ -413,6 +413,9 @@ contains
                              krylov_iterations, converged, iterations, error)
         result%stats%t_solve = result%stats%t_solve + (wall_seconds() - t0)
         if (.not. (converged .or. allocated(error))) then
+            ! UMFPACK's analysis of the consistent tangents' pattern with METIS (its first
+            ! factorisation here makes it; docs/performance.md (z))
+            call system%solver%set_metis(.true.)
             call factorise_values(system, result, context, error)
             system%factorised_linear = .false.
             if (.not. allocated(error)) then
