@@ -7,6 +7,7 @@ program cfrd_tests
     use test_io_card_schema, only: collect_io_card_schema
     use test_solver_sparse, only: collect_solver_sparse
     use test_solver_cholmod, only: collect_solver_cholmod
+    use test_solver_krylov, only: collect_solver_krylov
     use test_elements_quad4, only: collect_elements_quad4
     use test_elements_geometry, only: collect_elements_geometry
     use test_analysis_verification, only: collect_analysis_verification
@@ -51,6 +52,10 @@ program cfrd_tests
     if (wanted('solver_cholmod')) then
         call collect_solver_cholmod(tests)
         call run_suite('solver_cholmod', tests, only_test, npass, nfail)
+    end if
+    if (wanted('solver_krylov')) then
+        call collect_solver_krylov(tests)
+        call run_suite('solver_krylov', tests, only_test, npass, nfail)
     end if
     if (wanted('elements_quad4')) then
         call collect_elements_quad4(tests)

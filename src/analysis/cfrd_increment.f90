@@ -22,8 +22,21 @@ module cfrd_increment
     use cfrd_active_set, only: solve_system
     use cfrd_stage_state, only: state_t, ngauss
     use cfrd_error_control, only: out_of_tolerance
+    use cfrd_krylov, only: gmres_solve
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
+
+    !> Newton's corrections by GMRES with the kept factorisation (newton_correction): the
+    !> relative residual |r - A ddu| / |r| they are solved to, about that of a direct solve
+    !> without refinement (docs/performance.md (k): up to 3e-13) [choice]; and the most
+    !> GMRES iterations before A is factorised instead, about the cost of one numeric
+    !> factorisation in preconditioner solves (docs/performance.md (z)) [choice].
+    real(dp), parameter :: krylov_rtol = 1.0e-12_dp
+    real(dp), parameter :: krylov_rtol_max = 1.0e-8_dp
+    real(dp), parameter :: krylov_share = 1.0e-3_dp
+    real(dp), parameter :: krylov_residual = 1.0e-4_dp
+    integer, parameter :: krylov_iterations = 10
 
     public :: solve_increment, integrate_stress, accept_history, all_linear
 
@@ -251,24 +264,31 @@ contains
                                               f_target, system%dofmap, contact, &
                                               roundoff=floor, force=f_end)/load_norm
                 end if
-                ! The consistent tangent: the derivative of the midpoint stress update with
-                ! respect to the strain increment at each point (material_update_tangent).
-                call factorise_at(model, library, state, stress_mid, system, result, context, &
-                                  error, consistent_tangents(model, library, state, du, d_start, &
-                                                             substeps), contact)
-                if (allocated(error)) return
                 block
                     real(dp), allocatable :: ddu(:, :), du_try(:, :), stress_try(:, :, :), &
                                              f_try(:, :)
                     real(dp) :: step, trial
                     integer :: halving
-                    ! f_target - f_int(stress_end): the internal forces of the residual above;
-                    ! without UMFPACK's iterative refinement, which the next iteration does
-                    ! (not with contact: its active set is decided on the solution)
-                    if (.not. state%has_contact) call system%solver%set_refinement(.false.)
-                    call solve_system(model, f_target - f_end, 0.0_dp*du_prescribed, system, &
-                                      ddu, result, context, error, contact, du, stalled)
-                    call system%solver%set_refinement(.true.)
+                    ! The consistent tangent: the derivative of the midpoint stress update
+                    ! with respect to the strain increment at each point
+                    ! (material_update_tangent); the correction for f_target - f_int(stress_end)
+                    ! (the internal forces of the residual above).
+                    if (state%has_contact .or. all_linear(model, state%active)) then
+                        call factorise_at(model, library, state, stress_mid, system, result, &
+                                          context, error, consistent_tangents(model, library, &
+                                          state, du, d_start, substeps), contact)
+                        if (allocated(error)) return
+                        call solve_system(model, f_target - f_end, 0.0_dp*du_prescribed, &
+                                          system, ddu, result, context, error, contact, du, &
+                                          stalled)
+                    else
+                        call newton_correction(model, library, state, stress_mid, &
+                                               consistent_tangents(model, library, state, du, &
+                                                                   d_start, substeps), &
+                                               f_target - f_end, residual, &
+                                               iteration == 1, system, ddu, result, &
+                                               context, error)
+                    end if
                     if (allocated(error)) return
                     ! Backtracking line search: the E-B tangent has kinks (stress-level cap,
                     ! sigma3 floor, Poisson bounds, unloading transition) where a full
@@ -331,6 +351,79 @@ contains
                                   system%dofmap, contact, text)
         end function worst_node
     end subroutine solve_increment
+
+    !> Newton's correction ddu = A^-1 rhs on the free dofs (none prescribed), A the consistent
+    !> tangents `tangents` assembled: by GMRES preconditioned with the factorisation the
+    !> system holds (the last iteration's, or the midpoint corrector's) to a relative residual
+    !> of krylov_rtol, else, when GMRES does not get there within krylov_iterations, by a
+    !> numeric factorisation of A (docs/theory.md section 9, "Newton's corrections by
+    !> GMRES"). The solves are without UMFPACK's iterative refinement, which the next Newton
+    !> iteration does. Not with contact (its active set is decided on each solve).
+    subroutine newton_correction(model, library, state, stress, tangents, rhs, residual, &
+                                 first, system, ddu, result, context, error)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        type(state_t), intent(in) :: state
+        real(dp), intent(in) :: stress(:, :, :), tangents(:, :, :, :), rhs(:, :)
+        !> the relative residual of the iterate (the Newton loop's measure)
+        real(dp), intent(in) :: residual
+        !> the increment's first Newton iteration (the kept factorisation is not Newton's)
+        logical, intent(in) :: first
+        type(system_t), intent(inout) :: system
+        real(dp), allocatable, intent(out) :: ddu(:, :)
+        type(stage_result_t), intent(inout) :: result
+        character(len=*), intent(in) :: context
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), allocatable :: b(:), x(:)
+        real(dp) :: t0, rtol
+        integer :: iterations
+        logical :: converged
+        t0 = wall_seconds()
+        call assemble_tangent(model, library, state%active, system%pattern, stress, &
+                              state%strain, state%history, system%values, tangents)
+        result%stats%t_assembly = result%stats%t_assembly + (wall_seconds() - t0)
+        allocate (b(system%pattern%n), x(system%pattern%n))
+        associate (eq => system%dofmap%eq)
+            b(pack(eq, eq > 0)) = pack(rhs, eq > 0)
+        end associate
+        call system%solver%set_refinement(.false.)
+        ! Not in the first iteration, whose kept factorisation is the midpoint corrector's:
+        ! measured, GMRES hardly ever reaches krylov_rtol with it (docs/performance.md (z)).
+        converged = .false.
+        iterations = 0
+        t0 = wall_seconds()
+        rtol = max(krylov_rtol, min(krylov_rtol_max, &
+                                    krylov_share*model%tolerance/max(residual, tiny(1.0_dp))))
+        if (.not. first .and. residual <= krylov_residual) &
+            call gmres_solve(system%solver, system%pattern, system%values, b, x, rtol, &
+                             krylov_iterations, converged, iterations, error)
+        result%stats%t_solve = result%stats%t_solve + (wall_seconds() - t0)
+        if (.not. (converged .or. allocated(error))) then
+            ! UMFPACK's analysis of the consistent tangents' pattern with METIS (its first
+            ! factorisation here makes it; docs/performance.md (z))
+            call system%solver%set_metis(.true.)
+            call factorise_values(system, result, context, error)
+            system%factorised_linear = .false.
+            if (.not. allocated(error)) then
+                t0 = wall_seconds()
+                call system%solver%solve(system%pattern, system%values, b, x, error)
+                result%stats%t_solve = result%stats%t_solve + (wall_seconds() - t0)
+            end if
+        end if
+        call system%solver%set_refinement(.true.)
+        if (allocated(error)) then
+            error%message = context//': '//error%message
+            return
+        end if
+        if (all(ieee_is_finite(x))) then
+            associate (eq => system%dofmap%eq)
+                ddu = unpack(x(pack(eq, eq > 0)), eq > 0, 0.0_dp)
+            end associate
+        else
+            call fatal_error(error, context//': the Newton correction is not finite', &
+                             numerical_error)
+        end if
+    end subroutine newton_correction
 
     !> du = du_p + K^-1 (f_target - f_int(stress + D B du_p)) on the free dofs: the prescribed
     !> increment du_p moves the fixed dofs, and the forces it causes (K_fp du_p, through the

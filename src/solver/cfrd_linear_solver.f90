@@ -48,6 +48,7 @@ module cfrd_linear_solver
         procedure :: configure
         procedure :: set_row_scaling
         procedure :: set_refinement
+        procedure :: set_metis
         procedure :: choose
         procedure :: is_analysed
         procedure :: analyse
@@ -93,6 +94,13 @@ contains
         logical, intent(in) :: on
         call self%lu%set_refinement(on)
     end subroutine set_refinement
+
+    !> UMFPACK's METIS ordering (umfpack_t%set_metis) from its next analysis on.
+    subroutine set_metis(self, on)
+        class(linear_solver_t), intent(inout) :: self
+        logical, intent(in) :: on
+        call self%lu%set_metis(on)
+    end subroutine set_metis
 
     !> Which library factorises `values` next: CHOLMOD when the choice allows it and the
     !> matrix is symmetric with a positive diagonal (symmetric_values), else UMFPACK.
