@@ -215,11 +215,6 @@ def run_suite(cfrd, workdir):
     decks += [(runner.tianshengqiao(path(name), "--knee", "--interface", interface), name)
               for interface, name in (("bonded", "tianshengqiao.dat"),
                                       ("contact", "tianshengqiao-x4-contact.dat"))]
-    # The knee deck with the slab resolved by the rule a <= pi/(6 lambda) (--face auto,
-    # docs/tianshengqiao.md section 11.5): about a minute, so checked against the generator
-    # only.
-    decks.append((runner.tianshengqiao(path("tianshengqiao-face8.dat"), "--knee", "--face",
-                                       "auto"), "tianshengqiao-face8.dat"))
     for made, name in decks:
         same = filecmp.cmp(made, os.path.join(runner.ROOT, "inputs", name), shallow=False)
         check("tsq/deck-matches-geometry", same, f"inputs/{name}" + (" is" if same else
