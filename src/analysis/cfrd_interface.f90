@@ -305,7 +305,7 @@ contains
                 res%section_s(j) = res%section_s(j) + centre_s(i)
                 res%section_x(j) = res%section_x(j) + sum(res%x(:, i))/4.0_dp
                 res%section_y(j) = res%section_y(j) + sum(res%y(:, i))/4.0_dp
-                res%thickness(j) = res%thickness(j) + elem_len(i)   ! summed lengths for now
+                res%length(j) = res%length(j) + elem_len(i)
                 ! f_t of the column: the smallest given by its elements' materials.
                 ft = model%materials(model%mesh%material(res%element(i)))%tensile_strength
                 if (ft > 0.0_dp .and. (res%tensile_strength(j) == 0.0_dp .or. &
@@ -315,19 +315,18 @@ contains
             res%section_s(j) = res%section_s(j)/m
             res%section_x(j) = res%section_x(j)/m
             res%section_y(j) = res%section_y(j)/m
-            ! Mean element length along the axis, then the thickness h = area / L.
-            res%thickness(j) = res%thickness(j)/m
-            res%length(j) = res%thickness(j)
+            ! Mean element length along the axis L, and the thickness h = area / L.
+            res%length(j) = res%length(j)/m
+            res%thickness(j) = area/res%length(j)
             do i = 1, ns
                 if (section_of(i) /= j) cycle
                 res%axial(j) = res%axial(j) + sum(res%sigma_t(:, i)*dv(:, i))
                 res%shear(j) = res%shear(j) + sum(res%tau(:, i)*dv(:, i))
                 res%moment(j) = res%moment(j) + sum(res%sigma_t(:, i)*(zeta(:, i) - zc)*dv(:, i))
             end do
-            res%axial(j) = res%axial(j)/res%thickness(j)
-            res%shear(j) = res%shear(j)/res%thickness(j)
-            res%moment(j) = res%moment(j)/res%thickness(j)
-            res%thickness(j) = area/res%thickness(j)
+            res%axial(j) = res%axial(j)/res%length(j)
+            res%shear(j) = res%shear(j)/res%length(j)
+            res%moment(j) = res%moment(j)/res%length(j)
             if (.not. res%section_active(j)) then
                 res%axial(j) = 0.0_dp
                 res%shear(j) = 0.0_dp
