@@ -838,34 +838,66 @@ def generate(r, geo=None, interface="bonded", face=None, face_band=6, plinth=Fal
 
 
 def slab_lengths(num):
-    """Each slab element's length along the slope: its longer mid-line (cfrd's slab axis)."""
-    out = []
+    """Each slab element's length along the slope (its longer mid-line, cfrd's slab axis) and
+    its slab phase, as two arrays."""
+    out, phases = [], []
     for q, c in zip(num.quads, num.conn):
         if q.kind != "slab":
             continue
         p = num.xy[c - 1]
         out.append(max(np.linalg.norm(p[1] + p[2] - p[0] - p[3]),
                        np.linalg.norm(p[2] + p[3] - p[0] - p[1])) / 2.0)
-    return np.array(out)
+        phases.append(int(q.group[4:]))     # SLAB1, SLAB2, ... (refine keeps the group)
+    return np.array(out), np.array(phases)
 
 
-def auto_face(r, geo, interface, face_band, plinth, solver_note, normal_rings):
+def set_contact_elements(geo, counts, note):
+    """The contact slab's elements along the slope per phase at x1 (in place of the geometry
+    file's interface.contact_elements), with the header's note."""
+    geo.raw["interface"]["contact_elements"] = {"value": list(counts), "source": "choice",
+                                                "note": note}
+    geo.list_sources()
+
+
+def auto_face(r, geo, interface, face_band, plinth, solver_note, normal_rings,
+              contact_counts_given=False):
     """--face auto: the smallest face factor F in {r..8} whose slab elements are all at most
     pi / (6 lambda) long along the slope (pi / lambda: [slab] decay_length of the geometry
-    file for this interface); 8 with a warning when none is. Returns (F or None when F = r,
-    the generate() tuple, the header note)."""
+    file for this interface). The contact slab, meshed on its own, gets at face 8 the fewest
+    elements per phase that meet the rule (its count raised phase by phase from the geometry
+    file's), unless --contact-elements set them. Otherwise 8, with a warning, when no face
+    meets it. Returns (F or None when F = r, the generate() tuple, the header note)."""
     decay = float(geo.v("slab", "decay_length")[interface])
     limit = RESOLUTION_FRACTION * decay
-    for f in (f for f in FACES if f >= r):
+
+    def attempt(f):
         made = generate(r, geo, interface, None if f == r else f, face_band, plinth,
                         solver_note, normal_rings)
-        longest = float(slab_lengths(made[1]).max())
-        if longest <= limit:
+        return made, *slab_lengths(made[1])
+
+    for f in (f for f in FACES if f >= r):
+        made, lengths, phases = attempt(f)
+        if lengths.max() <= limit:
             break
+    raised = ""
+    if lengths.max() > limit and interface == "contact" and not contact_counts_given:
+        geo = copy.deepcopy(geo)
+        counts = list(geo.v("interface", "contact_elements"))
+        while lengths.max() > limit:
+            for k in range(len(counts)):
+                if lengths[phases == k + 1].max() > limit:
+                    counts[k] += 1
+            set_contact_elements(geo, counts, "slab elements along the slope per phase in"
+                                 " the contact mesh: the fewest from the geometry file's"
+                                 " that meet a <= pi / (6 lambda) at face factor 8 (--face"
+                                 " auto)")
+            made, lengths, phases = attempt(f)
+        raised = f"; contact slab elements per phase {','.join(map(str, counts))}"
+    longest = float(lengths.max())
     met = longest <= limit
-    note = (f"--face auto: face factor {f}, the slab's elements at most {longest:.3f} m along"
-            f" the slope {'<=' if met else '>'} pi / (6 lambda) = {limit:.3f} m (pi / lambda ="
-            f" {decay:g} m, [slab] decay_length of the geometry file, {interface})"
+    note = (f"--face auto: face factor {f}{raised}, the slab's elements at most {longest:.3f} m"
+            f" along the slope {'<=' if met else '>'} pi / (6 lambda) = {limit:.3f} m (pi /"
+            f" lambda = {decay:g} m, [slab] decay_length of the geometry file, {interface})"
             + ("" if met else f": NOT met even at face factor {f}, the finest --face gives"))
     if not met:
         print(f"warning: --face auto: the {interface} slab's elements are up to {longest:.3f} m"
@@ -922,8 +954,9 @@ def main(argv=None):
                          " 8 whose slab elements are at most pi / (6 lambda) long along the"
                          " slope (pi / lambda: the geometry file's [slab] decay_length for"
                          " --interface; the rule cfrd's summary checks, docs/theory.md s. 13;"
-                         " a warning and 8 when even 8 does not meet it: bonded and contact,"
-                         " docs/tianshengqiao.md s. 11.5)")
+                         " contact: at 8, the fewest slab elements per phase that meet it,"
+                         " unless --contact-elements is given; a warning and 8 when even 8"
+                         " does not meet it: bonded, docs/tianshengqiao.md s. 11.5)")
     ap.add_argument("--contact-elements", default=None, metavar="N1,N2,N3",
                     help="--interface contact: the slab's own elements along the slope per"
                          " phase at x1 in place of the geometry file's contact_elements (for"
@@ -948,11 +981,9 @@ def main(argv=None):
         counts = [int(n) for n in args.contact_elements.split(",")]
         if len(counts) != len(base.v("slab", "phase_tops")) or min(counts) < 1:
             ap.error("--contact-elements: one count of at least 1 per slab phase, e.g. 11,9,6")
-        base.raw["interface"]["contact_elements"] = {
-            "value": counts, "source": "choice",
-            "note": "slab elements along the slope per phase in the contact mesh, set by"
-                    " --contact-elements in place of the geometry file's"}
-        base.list_sources()
+        set_contact_elements(base, counts, "slab elements along the slope per phase in the"
+                             " contact mesh, set by --contact-elements in place of the"
+                             " geometry file's")
     if args.plinth and args.all:
         ap.error("--plinth writes one deck: leave out --all (the decks in inputs/ have none)")
     if args.knee and args.refine is not None:
@@ -979,7 +1010,8 @@ def main(argv=None):
         normal_rings = interface == "contact" or slab_element == "Q4S"
         if args.face == "auto":
             face, (geo, num, stages, notes), auto_note = auto_face(
-                r, geo, interface, args.face_band, args.plinth, solver_note, normal_rings)
+                r, geo, interface, args.face_band, args.plinth, solver_note, normal_rings,
+                args.contact_elements is not None)
             notes = notes + [auto_note]
         else:
             face = None if args.face is None else int(args.face)
