@@ -587,33 +587,28 @@ def gauge_nodes(geo, num):
 
 # What docs/accuracy-cost.md measured for a deck at the knee and for the x1 decks (section 2,
 # the `combined` rows and the x1 rows of the mesh knob; errors against the best estimate and
-# against x8), quoted in the deck header. Other settings get no figures.
+# against x8; the Q4S slab and the error control, redrawn for issue 21), quoted in the deck
+# header. Other settings get no figures.
 KNEE_FIGURES = {
-    "bonded": "3.7 s; the mid-height settlement (El. 709.3 m) 0.08 % and the overall maximum"
-              " 0.85 % from the best estimate; the gauge C1-H5 13 % off (it needs x8)",
-    "joint": "4.4 s; the mid-height settlement 0.04 % and the overall maximum 0.86 % from the"
-             " best estimate; the gauge C1-H5 23 % off; the openings not converged at any mesh",
-    "thin": "4.1 s; the mid-height settlement 0.26 % and the overall maximum 0.52 % from the"
-            " best estimate; the gauge C1-H5 11 % off; the openings not converged at any mesh",
-    "contact": "16 s; x1 and x2 do not resolve the 3.6 m openings; the phase I and II widths"
-               " 4.8 and 2.7 % from x8, the depths equal; the mid-height settlement 0.03 % from"
-               " x8; 2 increments per layer and 5 m water steps (28 s) widen phase I by 6 %",
+    "bonded": "3.8 s; the settlement (its maximum, El. 709.3 m) 0.26 % from the best estimate;"
+              " the gauge C1-H5 3.8 % off",
+    "joint": "6.4 s; the settlement 0.06 % from the best estimate; the gauge C1-H5 6.1 % off;"
+             " the openings not converged at any mesh",
+    "thin": "3.7 s; the settlement 0.24 % from the best estimate; the gauge C1-H5 2.9 % off;"
+            " the openings not converged at any mesh",
+    "contact": "82 s; x1 and x2 do not resolve the 3.6 m openings; the phase I and II depths"
+               " equal to x8, the widths 31 and 13 % from x8 (not converged); the settlement"
+               " 0.03 % from x8",
 }
-# The figures of the bonded, joint and thin decks were measured with their Q4 slab of before
-# issue 22 (docs/accuracy-cost.md), the contact decks' with Q4S: knee_lines says so.
-Q4_MEASURED = ("bonded", "joint", "thin")
 X1_FIGURES = {
-    "bonded": "0.5 s; the settlement 1.5 % (mid-height row, El. 709.3 m) and 2.3 % (overall"
-              " maximum) from x8; the gauge C1-H5 8 % off, not converged",
-    "joint": "0.6 s; the settlement 1.5 % (mid-height row) and 2.4 % (overall maximum) from x8;"
-             " the gauge C1-H5 14 % off; the openings not converged (widths 90-100 %, depths"
-             " 100-300 % off x8)",
-    "thin": "0.5 s; the settlement 1.4 % (mid-height row) and 2.2 % (overall maximum) from x8;"
-            " the gauge C1-H5 6 % off; the openings not converged (widths 40-100 %, depths"
-            " 215-220 % off x8)",
-    "contact": "0.6 s; the settlement 1.3 % (mid-height row) and 2.3 % (overall maximum) from"
-               " x8; the gauge C1-H5 15 % off; no opening at x1 (the phase tops do not"
-               " separate): the openings need x4",
+    "bonded": "0.7 s; the settlement 1.5 % (its maximum, on the mid-height row El. 709.3 m)"
+              " from x8; the gauge C1-H5 17 % off, not converged",
+    "joint": "0.9 s; the settlement 1.3 % from x8; the gauge C1-H5 17 % off; no opening at x1"
+             " (x2-x8: 1-4 mm, not converged)",
+    "thin": "0.9 s; the settlement 1.4 % from x8; the gauge C1-H5 13 % off; the openings not"
+            " converged (widths 86-123 %, depths 100-134 % off the mesh reference)",
+    "contact": "1.1 s; the settlement 1.2 % from x8; the gauge C1-H5 16 % off; no opening at"
+               " x1 (the phase tops do not separate): the openings need x4",
 }
 KNEE_DECKS = {"bonded": "inputs/tianshengqiao.dat",
               "contact": "inputs/tianshengqiao-x4-contact.dat"}
@@ -644,8 +639,6 @@ def knee_lines(geo, r, interface):
                                                 f" {interface}")]
         if below and (r, ninc, step) == (1, 1, 10.0):
             more += [X1_FIGURES[interface], "the paper's resolution and the fast regression deck"]
-    if interface in Q4_MEASURED:
-        more += ["measured with the Q4 slab before issue 22, docs/tianshengqiao.md s. 11.4"]
     # a number stays with its unit on a line
     text = re.sub(r"(\d) (%|s\b|m\b)", "\\1\xa0\\2", "(" + "; ".join(more) + ")")
     return lines + ["  " + t.replace("\xa0", " ")
