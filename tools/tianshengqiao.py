@@ -876,9 +876,10 @@ def auto_face(r, geo, interface, face_band, plinth, solver_note, normal_rings,
     if lengths.max() > limit and interface == "contact" and not contact_counts_given:
         geo = copy.deepcopy(geo)
         counts = list(geo.v("interface", "contact_elements"))
-        while lengths.max() > limit:
+        cap = [8 * n for n in counts]      # a guard: the rule is met far below it
+        while lengths.max() > limit and all(n < c for n, c in zip(counts, cap)):
             for k in range(len(counts)):
-                if lengths[phases == k + 1].max() > limit:
+                if lengths[phases == k + 1].max(initial=0.0) > limit:
                     counts[k] += 1
             set_contact_elements(geo, counts, "slab elements along the slope per phase in"
                                  " the contact mesh: the fewest from the geometry file's"
