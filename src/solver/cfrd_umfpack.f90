@@ -213,7 +213,8 @@ contains
     !> UMFPACK's iterative refinement of its solves (UMFPACK_IRSTEP: its default, 2 steps,
     !> when on; none when off). Off for Newton's corrections, which the next iteration
     !> corrects in turn (docs/theory.md section 9, "Newton's solves and
-    !> factorisations").
+    !> factorisations"), and for the contact systems, whose updated solves refine on
+    !> their own (refined_solve; docs/theory.md section 6).
     subroutine set_refinement(self, on)
         class(umfpack_t), intent(inout) :: self
         logical, intent(in) :: on
@@ -225,8 +226,9 @@ contains
 
     !> UMFPACK's METIS ordering of A + A^T in place of AMD (UMFPACK_ORDERING_METIS) for
     !> Newton's consistent tangents: at x4 16 % less fill and 5 % less CPU time of the run,
-    !> for a costlier analysis once per pattern (docs/performance.md (z)). Takes effect at
-    !> the next symbolic analysis.
+    !> for a costlier analysis once per pattern (docs/performance.md (z)); and for the
+    !> larger contact systems (docs/performance.md (ab)). Takes effect at the next
+    !> symbolic analysis.
     subroutine set_metis(self, on)
         class(umfpack_t), intent(inout) :: self
         logical, intent(in) :: on
