@@ -54,6 +54,10 @@ module cfrd_linear_system
     !> The slip rows' regularisation when a body held by friction alone slips at every
     !> node (a mechanism of the linearised equations): q = mu p sign - 1e-9 c_n slip.
     real(dp), parameter :: slip_viscosity = 1.0e-9_dp
+    !> From this many equations on, UMFPACK orders a contact system by METIS instead of AMD:
+    !> at x4 (20,818) and x8 (82,594) its numeric factorisations save more than its dearer
+    !> analyses cost, at x2 (5,000) they do not [choice, measured: docs/performance.md (ab)].
+    integer, parameter :: contact_metis_min = 10000
 
 contains
 
@@ -108,6 +112,11 @@ contains
             ! The multipliers are scaled to K's size (multiplier_scale): UMFPACK's row
             ! scaling would only push its pivots off the diagonal.
             call system%solver%set_row_scaling(.false.)
+            ! METIS on the larger systems; no iterative refinement of the solves of the
+            ! factorised matrix: the updated solves refine against the matrix they solve
+            ! (docs/theory.md section 6, docs/performance.md (ab)).
+            call system%solver%set_metis(system%pattern%n >= contact_metis_min)
+            call system%solver%set_refinement(.false.)
         else
             call build_pattern(system%pattern, system%dofmap%neq, system%dofmap%dof_ptr, &
                                system%dofmap%dofs, error)
