@@ -121,28 +121,18 @@ def end_cosine(geo, num):
     return worst
 
 
-def along_slope(num):
-    """Each slab element's length along the slope as cfrd's slab sections measure it (the
-    longer of its two mid-lines: the element's axis, docs/theory.md s. 13), with its group."""
-    out = []
-    for c, q in ((c, q) for c, q in zip(num.conn, num.quads) if q.kind == "slab"):
-        p = num.xy[np.asarray(c) - 1]
-        mids = (p[2] + p[3] - p[0] - p[1], p[1] + p[2] - p[0] - p[3])
-        out.append((max(float(np.linalg.norm(m)) for m in mids) / 2.0, q.group))
-    return out
-
-
 def face_auto():
     """--face auto (issue 22, docs/tianshengqiao.md s. 11.5) at x2: the joint, thin and
     contact slabs' elements are all at most pi / (6 lambda) long along the slope (lambda from
-    the geometry file's decay_length), and the contact slab's counts per phase are the fewest
-    that do: one element fewer in any phase breaks the rule there."""
+    the geometry file's decay_length; lengths as cfrd's slab sections measure them, the
+    generator's slab_lengths), and the contact slab's counts per phase are the fewest that
+    do: one element fewer in any phase, meshed here, breaks the rule there."""
     geo = tsq.Geometry()
     for method in ("joint", "thin", "contact"):
         # pi / (6 lambda), the decay length pi / lambda over 6
         limit = float(geo.v("slab", "decay_length")[method]) / 6.0
         face, made, _ = tsq.auto_face(2, geo, method, 6, False, None, True)
-        longest = max(a for a, _ in along_slope(made[1]))
+        longest = float(tsq.slab_lengths(made[1])[0].max())
         counts = made[0].v("interface", "contact_elements")
         check(f"tsq/face-auto-{method}", face == 8 and longest <= limit,
               f"face {face} (expected 8), longest slab element {longest:.3f} m along the slope"
@@ -155,7 +145,8 @@ def face_auto():
             trial = tsq.Geometry()
             tsq.set_contact_elements(trial, [n - (i == k) for i, n in enumerate(counts)], "")
             _, num, _, _ = tsq.generate(2, trial, "contact", 8, 6, False, None, True)
-            fewer.append(max(a for a, g in along_slope(num) if g == f"SLAB{k + 1}"))
+            lengths, phases = tsq.slab_lengths(num)
+            fewer.append(float(lengths[phases == k + 1].max()))
         check("tsq/face-auto-contact-fewest", min(fewer) > limit,
               f"one element fewer per phase: longest {', '.join(f'{a:.3f}' for a in fewer)} m,"
               f" each expected above {limit:.3f} m")

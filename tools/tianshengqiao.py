@@ -360,7 +360,8 @@ def refine(mesh, r, split=None):
                     else:
                         out.coords[kk] = mesh.coords[kk]
                 out.quads.append(Quad(tuple(ks), q.kind, q.band, q.material, q.group,
-                                      q.wet_face4 and i == 0, q.cover, q.column))
+                                      q.wet_face4 and i == 0, q.cover, q.column,
+                                      phase=q.phase))
     return out
 
 
@@ -840,7 +841,7 @@ def slab_lengths(num):
         p = num.xy[c - 1]
         out.append(max(np.linalg.norm(p[1] + p[2] - p[0] - p[3]),
                        np.linalg.norm(p[2] + p[3] - p[0] - p[1])) / 2.0)
-        phases.append(int(q.group[4:]))     # SLAB1, SLAB2, ... (refine keeps the group)
+        phases.append(q.phase)
     return np.array(out), np.array(phases)
 
 
