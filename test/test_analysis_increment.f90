@@ -14,7 +14,7 @@ module test_analysis_increment
     use cfrd_contact, only: new_contact, contact_geometry
     use cfrd_linear_system, only: system_t, new_system, factorise_values
     use cfrd_stage_state, only: state_t, ngauss
-    use cfrd_increment, only: solve_increment
+    use cfrd_increment, only: solve_increment, newton_stalled
     use cfrd_test_models, only: new_model, elastic_material
     use test_solver_sparse, only: dgesv
     implicit none
@@ -31,9 +31,47 @@ contains
         tests = [ &
                 new_unittest('linear_system_against_dense_lapack', test_linear_system), &
                 new_unittest('increment_uniaxial_plane_strain', test_uniaxial), &
-                new_unittest('active_set_block_on_foundation', test_pressed_block) &
+                new_unittest('active_set_block_on_foundation', test_pressed_block), &
+                new_unittest('newton_stall_rule', test_newton_stall) &
                 ]
     end subroutine collect_analysis_increment
+
+    !> Newton's stall rule (docs/theory.md section 9, "Stalls") on residual histories of the
+    !> Tianshengqiao x2 and x4 Newton decks (printed by a measuring build, docs/performance.md
+    !> (ac)): where the rule says stall, checked by hand against its two conditions.
+    subroutine test_newton_stall(error)
+        type(error_t), allocatable, intent(out) :: error
+        ! x2 contact, stage 24: converges at r_9 after an oscillation of the active set; at
+        ! i = 6 r_6 = 1.05e-2 > r_2 / 2 (the every-iteration test of r_i alone would stall),
+        ! but r_4 = 5.0e-3 < r_2 / 2 = 6.5e-3: no stall at any i
+        real(dp), parameter :: converging(10) = [9.73e-2_dp, 6.98e-2_dp, 1.31e-2_dp, &
+            3.38e-2_dp, 5.02e-3_dp, 8.18e-3_dp, 1.05e-2_dp, 2.20e-4_dp, 1.62e-7_dp, 2.36e-13_dp]
+        ! x4 bonded, stage 3: a plateau. The smallest of r_i-3 .. r_i against r_i-4 / 2:
+        ! i = 4 1.84e-3 < 1.08e-1, i = 5 1.27e-3 < 4.82e-3, i = 6 9.45e-4 < 2.82e-3, i = 7
+        ! 9.31e-4 < 1.085e-3: no stall; i = 8 9.31e-4 > 9.2e-4: stall (and the fourth-
+        ! iteration test too: r_8 = 9.51e-4 > 9.2e-4), where the rule before (docs/
+        ! performance.md (ac)) stalled too
+        real(dp), parameter :: plateau(9) = [2.16e-1_dp, 9.64e-3_dp, 5.64e-3_dp, 2.17e-3_dp, &
+            1.84e-3_dp, 1.27e-3_dp, 9.45e-4_dp, 9.31e-4_dp, 9.51e-4_dp]
+        ! x4 bonded, stage 7, a cutback's retry (rounded as printed): flat from r_0; at i = 4
+        ! the smallest of r_1 .. r_4, 1.28e-2, is above r_0 / 2 = 6.5e-3: stall at once
+        real(dp), parameter :: flat(5) = [1.3e-2_dp, 1.3e-2_dp, 1.29e-2_dp, 1.28e-2_dp, &
+            1.28e-2_dp]
+        integer :: n
+        do n = 1, size(converging)
+            call check(error, .not. newton_stalled(converging(1:n)), &
+                       'converging history, no stall at i = '//char(ichar('0') + n - 1))
+            if (allocated(error)) return
+        end do
+        do n = 1, 8
+            call check(error, .not. newton_stalled(plateau(1:n)), &
+                       'plateau, no stall yet at i = '//char(ichar('0') + n - 1))
+            if (allocated(error)) return
+        end do
+        call check(error, newton_stalled(plateau), 'plateau, stall at i = 8')
+        if (allocated(error)) return
+        call check(error, newton_stalled(flat), 'flat history, stall at i = 4')
+    end subroutine test_newton_stall
 
     !> nx x ny unit quads over [x0, x0 + nx] x [y0, y0 + ny], nodes numbered from n0 + 1 row
     !> by row.

@@ -45,7 +45,8 @@ contains
                 new_unittest('row_update_declined_when_singular', test_row_update_singular), &
                 new_unittest('row_update_of_the_factorised_matrix', test_row_update_none), &
                 new_unittest('row_update_refused_when_not_finite', test_row_update_nan), &
-                new_unittest('row_update_refused_when_w_overflows', test_row_update_inf) &
+                new_unittest('row_update_refused_when_w_overflows', test_row_update_inf), &
+                new_unittest('set_aside_taken_back_for_its_matrix', test_set_aside) &
                 ]
     end subroutine collect_solver_sparse
 
@@ -569,6 +570,74 @@ contains
             call check_against_dgesv(solver, pattern, values, what, error)
         end subroutine update_and_check
     end subroutine test_row_update
+
+    !> The retry of a rejected increment (cfrd_increment): A0 factorised and updated (the
+    !> predictor's active-set iterations), set aside, A1 factorised (the midpoint's), then
+    !> A0 again: taken back, not factorised (reused), its solve the same bits as the first
+    !> factorisation's and dgesv's of A0 to 1e-12; a matrix that differs from the one set
+    !> aside in one value is factorised anew (not reused), its solve dgesv's.
+    subroutine test_set_aside(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(sparse_pattern_t) :: pattern
+        type(umfpack_t) :: solver
+        real(dp), allocatable :: values(:), a0(:), b(:), x_first(:), x_again(:)
+        logical :: closed(40), done, reused
+        integer :: i
+        closed = .false.
+        closed(1:20) = .true.
+        call saddle_system(closed, pattern, values, error)
+        if (allocated(error)) return
+        a0 = values
+        allocate (b(pattern%n), x_first(pattern%n), x_again(pattern%n))
+        do i = 1, pattern%n
+            b(i) = cos(real(i, dp))
+        end do
+        call solver%factorise(pattern, a0, error, reused)
+        if (allocated(error)) return
+        call check(error, .not. reused, 'the first factorisation is not a reuse')
+        if (allocated(error)) return
+        call solver%solve(pattern, a0, b, x_first, error)
+        if (allocated(error)) return
+        closed(30:33) = .true.
+        call saddle_system(closed, pattern, values, error)
+        if (allocated(error)) return
+        call solver%update_rows(pattern, values, done, error)
+        if (allocated(error)) return
+        call check(error, done, 'the predictor''s update done')
+        if (allocated(error)) return
+        call solver%set_aside()
+        closed(1:10) = .false.
+        call saddle_system(closed, pattern, values, error)
+        if (allocated(error)) return
+        call solver%factorise(pattern, values, error, reused)
+        if (allocated(error)) return
+        call check(error, .not. reused, 'A1 is not the matrix set aside')
+        if (allocated(error)) return
+        call check_against_dgesv(solver, pattern, values, 'x of A1', error)
+        if (allocated(error)) return
+        call solver%factorise(pattern, a0, error, reused)
+        if (allocated(error)) return
+        call check(error, reused, 'A0 again: the factorisation set aside taken back')
+        if (allocated(error)) return
+        call check(error, .not. solver%is_updated(), 'taken back without the update')
+        if (allocated(error)) return
+        call solver%solve(pattern, a0, b, x_again, error)
+        if (allocated(error)) return
+        call check(error, maxval(abs(x_again - x_first)), 0.0_dp, &
+                   'x of A0 taken back against its first factorisation (bit for bit)')
+        if (allocated(error)) return
+        call check_against_dgesv(solver, pattern, a0, 'x of A0 taken back', error)
+        if (allocated(error)) return
+        ! set aside again, then a matrix one value away from A0: factorised, not reused
+        call solver%set_aside()
+        values = a0
+        values(1) = values(1)*(1.0_dp + 1.0e-15_dp)
+        call solver%factorise(pattern, values, error, reused)
+        if (allocated(error)) return
+        call check(error, .not. reused, 'a matrix one value off A0 is factorised anew')
+        if (allocated(error)) return
+        call check_against_dgesv(solver, pattern, values, 'x of A0 one value off', error)
+    end subroutine test_set_aside
 
     !> More rows changed than max_update_rank: the update is declined (the caller
     !> factorises), and the solves are still those of the factorised matrix.

@@ -38,7 +38,7 @@ module cfrd_increment
     real(dp), parameter :: krylov_residual = 1.0e-4_dp
     integer, parameter :: krylov_iterations = 10
 
-    public :: solve_increment, integrate_stress, accept_history, all_linear
+    public :: solve_increment, integrate_stress, accept_history, all_linear, newton_stalled
 
 contains
 
@@ -118,13 +118,13 @@ contains
         !> which a smaller step may cure: the stage driver cuts the increment back
         logical, intent(out), optional :: stalled
         real(dp), allocatable :: du(:, :), stress_end(:, :, :), stress_mid(:, :, :)
-        real(dp) :: residual, load_norm, recent, t0, floor
+        real(dp) :: residual, load_norm, t0, floor
         real(dp), allocatable :: rhs_stress(:, :, :), d_start(:, :, :, :), f_end(:, :)
         real(dp), allocatable :: d_here(:, :, :, :)
         integer, allocatable :: substeps(:, :), grown(:, :)
         integer :: iteration
         type(contact_t), allocatable :: contact
-        logical :: changed, searched, linear, reject, reuse
+        logical :: changed, searched, linear, reject, reuse, retried
 
         if (present(unbalanced)) unbalanced = .false.
         if (present(stalled)) stalled = .false.
@@ -150,8 +150,11 @@ contains
         ! increment (error control) or a Newton increment cut back, redone from the same
         ! state, takes back the factorisation of that tangent kept from its first attempt
         ! (without contact: CHOLMOD's only).
-        reuse = .not. state%has_contact .and. (model%solver == solver_newton .or. &
-                (model%solver == solver_midpoint .and. model%error_tolerance > 0.0_dp))
+        ! With contact UMFPACK takes its factorisation back when the retry's matrix is the
+        ! same, bit for bit (linear_solver_t%keep).
+        retried = model%solver == solver_newton .or. &
+                  (model%solver == solver_midpoint .and. model%error_tolerance > 0.0_dp)
+        reuse = .not. state%has_contact .and. retried
         ! The tangents at the start stresses once (docs/performance.md (v)): the predictor's
         ! matrix, the updates from the start stress and Newton's iterations (newton_start)
         ! take these. Not with creep, whose updates start elsewhere (absent, each caller
@@ -189,7 +192,7 @@ contains
             ! Midpoint: stresses half-way, the tangent there, and the increment again.
             call integrate_stress(model, library, state, 0.5_dp*du, stress_mid, stress_end, &
                                   .false., creep_share=0.5_dp, d_start=d_here)
-            if (reuse) call system%solver%keep(system%start_kept)
+            if (retried) call system%solver%keep(system%start_kept)
             call factorise_at(model, library, state, stress_mid, system, result, context, &
                               error, contact=contact)
             if (allocated(error)) return
@@ -221,16 +224,15 @@ contains
         if (model%solver == solver_newton) then
             result%newton_residuals = [residual]
             iteration = 0
-            recent = huge(1.0_dp)
             ! Converged when the residual relative to the whole model's load is below TOL, or
             ! below what floating point resolves in the assembled forces (docs/theory.md
             ! section 9.3): a TOL under round-off cannot stall the iterations.
             do while (residual > max(model%tolerance, floor/load_norm))
                 iteration = iteration + 1
-                ! A stall (the residual not halved over the last four iterations) ends the
-                ! iterations early, so that a cutback can be tried without waste.
-                if (mod(iteration, 4) == 1) then
-                    if (iteration > 1 .and. residual > 0.5_dp*recent) then
+                ! A stall ends the iterations early, so that a cutback can be tried without
+                ! waste (newton_stalled).
+                if (iteration > 4) then
+                    if (newton_stalled(result%newton_residuals(1:iteration))) then
                         call fatal_error(error, context//': no convergence: Newton '// &
                                          'iterations stalled at iteration '// &
                                          to_text(iteration - 1)//' (relative residual '// &
@@ -241,7 +243,6 @@ contains
                         if (present(stalled)) stalled = .true.
                         return
                     end if
-                    recent = residual
                 end if
                 if (iteration > model%max_iterations) then
                     call fatal_error(error, context//': no convergence after '// &
@@ -351,6 +352,21 @@ contains
                                   system%dofmap, contact, text)
         end function worst_node
     end subroutine solve_increment
+
+    !> Whether Newton's iterations have stalled, given the relative residuals r_0 .. r_i of
+    !> the increment so far (r(1) = r_0, the predictor's; i >= 4): every fourth iteration
+    !> (i = 4, 8, ...) when r_i > r_i-4 / 2, the residual not halved over the last four;
+    !> at every iteration when none of r_i-3 .. r_i is below r_i-4 / 2 (docs/theory.md
+    !> section 9, "Stalls").
+    pure logical function newton_stalled(r) result(stalled)
+        real(dp), intent(in) :: r(:)
+        integer :: n
+        n = size(r)   ! r_i is r(n)
+        stalled = .false.
+        if (n < 5) return
+        stalled = minval(r(n - 3:n)) > 0.5_dp*r(n - 4)
+        if (mod(n - 1, 4) == 0) stalled = stalled .or. r(n) > 0.5_dp*r(n - 4)
+    end function newton_stalled
 
     !> Newton's correction ddu = A^-1 rhs on the free dofs (none prescribed), A the consistent
     !> tangents `tangents` assembled: by GMRES preconditioned with the factorisation the

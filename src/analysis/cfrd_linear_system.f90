@@ -280,7 +280,7 @@ contains
         character(len=*), intent(in) :: context
         type(error_t), allocatable, intent(out) :: error
         real(dp) :: t1
-        logical :: declined
+        logical :: declined, reused
         ! CFRD_WRITE_MATRIX (a measuring aid, off by default): before the clock starts
         call write_matrix_if_asked(system%pattern, system%values, context, &
                                    result%factorisations)
@@ -303,7 +303,8 @@ contains
                 result%stats%analyses = result%stats%analyses + 1
                 t1 = wall_seconds()
             end if
-            call system%solver%factorise(system%pattern, system%values, declined, error)
+            call system%solver%factorise(system%pattern, system%values, declined, error, &
+                                         reused)
             if (allocated(error)) then
                 error%message = context//': '//error%message
                 return
@@ -314,6 +315,8 @@ contains
         end do
         result%stats%t_numeric = result%stats%t_numeric + (wall_seconds() - t1)
         result%stats%rcond = system%solver%rcond()
+        ! the factorisation set aside taken back: not a numeric factorisation
+        if (reused) return
         result%stats%lu_nnz = system%solver%factor_nonzeros()
         if (system%solver%is_cholesky()) result%stats%cholesky = result%stats%cholesky + 1
         result%factorisations = result%factorisations + 1

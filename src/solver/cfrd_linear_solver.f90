@@ -152,14 +152,17 @@ contains
     !> Numeric factorisation by the chosen library. `declined`: CHOLMOD found the matrix
     !> not positive definite (or too badly conditioned); UMFPACK is chosen now, and the
     !> caller factorises again (its analysis first, if is_analysed says so).
-    subroutine factorise(self, pattern, values, declined, error)
+    subroutine factorise(self, pattern, values, declined, error, reused)
         class(linear_solver_t), intent(inout) :: self
         type(sparse_pattern_t), intent(in) :: pattern
         real(dp), intent(in) :: values(:)
         logical, intent(out) :: declined
         type(error_t), allocatable, intent(out) :: error
+        !> UMFPACK took back the factorisation set aside by keep: `values` is its matrix
+        logical, intent(out), optional :: reused
         logical :: positive
         declined = .false.
+        if (present(reused)) reused = .false.
         self%llt_factorised = .false.
         if (self%use_llt) then
             call self%llt%factorise(pattern, values, positive, error)
@@ -177,7 +180,7 @@ contains
             self%use_llt = .false.
             return
         end if
-        call self%lu%factorise(pattern, values, error)
+        call self%lu%factorise(pattern, values, error, reused)
         if (.not. allocated(error)) self%lu_analysed = .true.
     end subroutine factorise
 
@@ -246,11 +249,17 @@ contains
     !> can take it back; the next one is factorised in the other CHOLMOD object, with a copy
     !> of the kept one's analysis the first time (the analysis depends on the pattern and
     !> the ordering alone: the same factors, bit for bit, without a second ordering).
+    !> UMFPACK's is set aside too (umfpack_t%set_aside), not `kept`: factorise takes it
+    !> back when it is given the same matrix again (the contact systems, whose matrix the
+    !> caller assembles anew with the active set).
     subroutine keep(self, kept)
         class(linear_solver_t), intent(inout) :: self
         logical, intent(out) :: kept
         kept = self%llt_factorised
-        if (.not. kept) return
+        if (.not. kept) then
+            call self%lu%set_aside()
+            return
+        end if
         call self%llt%exchange(self%spare)
         if (.not. self%llt%is_analysed()) call self%llt%copy_analysis(self%spare)
         self%spare_factorised = .true.

@@ -81,19 +81,26 @@ module cfrd_umfpack
         !> The load and solution of the last solve of A0 itself: a load that differs from it
         !> only in rows(1:rank) has A0^-1 b = x_base + w (b - b_base)(rows), no solve needed
         real(dp), allocatable :: b_base(:), x_base(:)
+        !> A numeric factorisation set aside (set_aside) with its matrix and UMFPACK's info:
+        !> taken back, not redone, when factorise is given the same matrix again (the retry
+        !> of a rejected increment from the same state; docs/performance.md (ac))
+        type(c_ptr) :: spare = c_null_ptr
+        real(dp), allocatable :: spare_base(:)
+        real(c_double) :: spare_info(umfpack_info) = 0.0_dp
     contains
         procedure :: set_row_scaling
         procedure :: set_refinement
         procedure :: set_metis
         procedure :: analyse
         procedure :: factorise
+        procedure :: set_aside
         procedure :: update_rows
         procedure :: solve
         procedure :: rcond
         procedure :: factor_nonzeros
         procedure :: is_updated
         procedure :: release
-        procedure, private :: solve_factors, solve_updated, forget_update
+        procedure, private :: solve_factors, solve_updated, forget_update, free_spare
         final :: finalise
     end type umfpack_t
 
@@ -259,13 +266,17 @@ contains
 
     !> Numeric factorisation with the kept symbolic one (made first if there is none).
     !> A singular or nearly singular matrix is an error; no factorisation is kept then.
-    subroutine factorise(self, pattern, values, error)
+    !> `reused`: the matrix is, bit for bit, the one of the factorisation set aside
+    !> (set_aside), which is taken back instead (the same factors as a new one would be).
+    subroutine factorise(self, pattern, values, error, reused)
         class(umfpack_t), intent(inout) :: self
         type(sparse_pattern_t), intent(in) :: pattern
         real(dp), intent(in) :: values(:)
         type(error_t), allocatable, intent(out) :: error
+        logical, intent(out), optional :: reused
         integer(c_int) :: status
         character(len=120) :: text
+        if (present(reused)) reused = .false.
         call check_sizes(pattern, values, error)
         if (allocated(error)) return
         if (.not. c_associated(self%symbolic)) then
@@ -274,6 +285,19 @@ contains
         end if
         if (c_associated(self%numeric)) call umfpack_di_free_numeric(self%numeric)
         call self%forget_update()
+        if (c_associated(self%spare)) then
+            if (size(self%spare_base) == pattern%nnz) then
+                if (all(self%spare_base == values(1:pattern%nnz))) then
+                    self%numeric = self%spare
+                    self%spare = c_null_ptr
+                    call move_alloc(self%spare_base, self%base)
+                    self%info = self%spare_info
+                    if (allocated(self%b_base)) deallocate (self%b_base, self%x_base)
+                    if (present(reused)) reused = .true.
+                    return
+                end if
+            end if
+        end if
         status = umfpack_di_numeric(pattern%colptr, pattern%rowind, values, self%symbolic, &
                                     self%numeric, self%control, self%info)
         if (status == warning_singular .or. &
@@ -296,6 +320,29 @@ contains
         end if
         if (allocated(self%b_base)) deallocate (self%b_base, self%x_base)
     end subroutine factorise
+
+    !> Set the numeric factorisation aside (replacing one set aside before): factorise takes
+    !> it back when it is given its matrix again. The solves have no factorisation until
+    !> the next factorise.
+    subroutine set_aside(self)
+        class(umfpack_t), intent(inout) :: self
+        call self%free_spare()
+        if (.not. (c_associated(self%numeric) .and. allocated(self%base))) return
+        self%spare = self%numeric
+        self%numeric = c_null_ptr
+        call move_alloc(self%base, self%spare_base)
+        self%spare_info = self%info
+        call self%forget_update()
+        if (allocated(self%b_base)) deallocate (self%b_base, self%x_base)
+    end subroutine set_aside
+
+    !> Free the factorisation set aside, if any.
+    subroutine free_spare(self)
+        class(umfpack_t), intent(inout) :: self
+        if (c_associated(self%spare)) call umfpack_di_free_numeric(self%spare)
+        self%spare = c_null_ptr
+        if (allocated(self%spare_base)) deallocate (self%spare_base)
+    end subroutine free_spare
 
     !> Make the solves those of `values`, a matrix of the factorised one's pattern that differs
     !> from it in at most max_update_rank rows, without a new numeric factorisation (the
@@ -637,6 +684,7 @@ contains
         self%symbolic = c_null_ptr
         call self%forget_update()
         if (allocated(self%base)) deallocate (self%base)
+        call self%free_spare()
     end subroutine release
 
     subroutine finalise(self)
