@@ -231,18 +231,16 @@ contains
                 iteration = iteration + 1
                 ! A stall ends the iterations early, so that a cutback can be tried without
                 ! waste (newton_stalled).
-                if (iteration > 4) then
-                    if (newton_stalled(result%newton_residuals(1:iteration))) then
-                        call fatal_error(error, context//': no convergence: Newton '// &
-                                         'iterations stalled at iteration '// &
-                                         to_text(iteration - 1)//' (relative residual '// &
-                                         real_text(residual)//', tolerance '// &
-                                         real_text(model%tolerance)//'; largest out-of-'// &
-                                         'balance force at '//worst_node()//')', &
-                                         numerical_error)
-                        if (present(stalled)) stalled = .true.
-                        return
-                    end if
+                if (newton_stalled(result%newton_residuals(1:iteration))) then
+                    call fatal_error(error, context//': no convergence: Newton '// &
+                                     'iterations stalled at iteration '// &
+                                     to_text(iteration - 1)//' (relative residual '// &
+                                     real_text(residual)//', tolerance '// &
+                                     real_text(model%tolerance)//'; largest out-of-'// &
+                                     'balance force at '//worst_node()//')', &
+                                     numerical_error)
+                    if (present(stalled)) stalled = .true.
+                    return
                 end if
                 if (iteration > model%max_iterations) then
                     call fatal_error(error, context//': no convergence after '// &
