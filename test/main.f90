@@ -17,6 +17,7 @@ program cfrd_tests
     use test_materials_creep, only: collect_materials_creep
     use test_core_dates, only: collect_core_dates
     use test_core_sha256, only: collect_core_sha256
+    use test_core_omp, only: collect_core_omp
     use test_analysis_water, only: collect_analysis_water
     use test_analysis_interface, only: collect_analysis_interface
     use test_analysis_slab, only: collect_analysis_slab
@@ -80,6 +81,10 @@ program cfrd_tests
     if (wanted('core_sha256')) then
         call collect_core_sha256(tests)
         call run_suite('core_sha256', tests, only_test, npass, nfail)
+    end if
+    if (wanted('core_omp')) then
+        call collect_core_omp(tests)
+        call run_suite('core_omp', tests, only_test, npass, nfail)
     end if
     if (wanted('materials_creep')) then
         call collect_materials_creep(tests)

@@ -3,6 +3,7 @@
 !> forms: a bar under a uniform axial load (symmetric positive definite), 2 x 2 blocks of
 !> known inverse (indefinite, unsymmetric).
 module test_solver_cholmod
+    use, intrinsic :: iso_c_binding, only: c_long_long
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t
     use cfrd_testing, only: unittest_t, new_unittest, check
@@ -13,6 +14,7 @@ module test_solver_cholmod
                                   linear_solver_umfpack
     use cfrd_linear_system, only: system_t, factorise_values
     use cfrd_results, only: stage_result_t
+    use cfrd_omp_threads, only: regions_in_place
     implicit none
     private
 
@@ -33,7 +35,8 @@ contains
                 new_unittest('factorise_values_counts', test_counts), &
                 new_unittest('bar_each_ordering', test_orderings), &
                 new_unittest('ordering_by_what_pays', test_ordering_rule), &
-                new_unittest('kept_analysis_copied', test_kept_copy) &
+                new_unittest('kept_analysis_copied', test_kept_copy), &
+                new_unittest('regions_run_in_place', test_regions_in_place) &
                 ]
     end subroutine collect_solver_cholmod
 
@@ -144,6 +147,32 @@ contains
             call solver%release()
         end do
     end subroutine test_bar_both
+
+    !> CHOLMOD's supernodal factorisation opens OpenMP parallel regions (several per
+    !> supernode; cfrd_cholmod runs them on one thread): they run in place, without a team
+    !> (cfrd_omp_in_place.c), and the bar's solution is still the closed form.
+    subroutine test_regions_in_place(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(sparse_pattern_t) :: pattern
+        type(linear_solver_t) :: solver
+        real(dp), allocatable :: values(:), b(:), exact(:), x(:)
+        integer :: declines
+        integer(c_long_long) :: before
+        call bar(400, pattern, values, b, exact, error)
+        if (allocated(error)) return
+        allocate (x(size(b)))
+        call solver%configure(linear_solver_cholmod, .true.)
+        before = regions_in_place()
+        call factorise_solve(solver, pattern, values, b, x, declines, error)
+        if (allocated(error)) return
+        call check(error, regions_in_place() > before, &
+                   'the factorisation''s parallel regions ran in place')
+        if (allocated(error)) return
+        call check(error, maxval(abs(x - exact)), 0.0_dp, &
+                   'bar under uniform load against u = q (L x - x^2/2) / EA', &
+                   abs=1.0e-11_dp*maxval(abs(exact)))
+        call solver%release()
+    end subroutine test_regions_in_place
 
     !> The mirror of each entry, and the tolerance: a relative asymmetry below it passes,
     !> one above does not; a missing transpose of a non-zero fails.

@@ -10,14 +10,26 @@
 !> one thread whatever is asked. With more than one thread, libgomp's idle workers spin
 !> for a while after each loop unless OMP_WAIT_POLICY=passive, which libgomp reads when it
 !> is loaded, before any Fortran runs: on a shared machine a 2-thread run spun through 6.5
-!> s of CPU time (docs/performance.md (m)); README says to set it.
+!> s of CPU time (docs/performance.md (m)); README says to set it. A parallel region that
+!> gets one thread runs in place, without a team (cfrd_omp_in_place.c; docs/performance.md
+!> (ae)): regions_in_place counts them.
 module cfrd_omp_threads
+    use, intrinsic :: iso_c_binding, only: c_long_long
     !$ use omp_lib, only: omp_set_num_threads, omp_get_max_threads, &
     !$                    omp_get_max_active_levels, omp_set_max_active_levels
     implicit none
     private
 
     public :: set_omp_threads, loop_threads, begin_serial_library, end_serial_library
+    public :: regions_in_place
+
+    interface
+        !> cfrd_omp_in_place.c: the parallel regions run in place so far.
+        integer(c_long_long) function c_regions_in_place() &
+            bind(C, name='cfrd_omp_regions_in_place')
+            import :: c_long_long
+        end function c_regions_in_place
+    end interface
 
 contains
 
@@ -61,6 +73,12 @@ contains
         !$ saved = omp_get_max_active_levels()
         !$ call omp_set_max_active_levels(0)
     end function begin_serial_library
+
+    !> The parallel regions of the process run in place so far, without a team of threads
+    !> (cfrd_omp_in_place.c): those that would get one thread.
+    integer(c_long_long) function regions_in_place()
+        regions_in_place = c_regions_in_place()
+    end function regions_in_place
 
     !> Restore the setting that begin_serial_library returned.
     subroutine end_serial_library(saved)

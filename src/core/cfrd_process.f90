@@ -4,7 +4,7 @@
 !> still runs, random bits for run ids, and a short sleep. Linux only (/proc), bound to the
 !> C library in two layers.
 module cfrd_process
-    use, intrinsic :: iso_c_binding, only: c_int, c_char, c_size_t, c_null_char
+    use, intrinsic :: iso_c_binding, only: c_int, c_char, c_size_t, c_ptrdiff_t, c_null_char
     use, intrinsic :: iso_fortran_env, only: int64
     implicit none
     private
@@ -27,6 +27,15 @@ module cfrd_process
             import :: c_int
             integer(c_int), value :: microseconds   ! useconds_t: unsigned int
         end function c_usleep
+
+        !> getrandom(2) (glibc 2.25, Linux 3.17): up to `length` random bytes, the count
+        !> returned (-1 on error); ssize_t is c_ptrdiff_t's size on Linux (LP64 and ILP32).
+        integer(c_ptrdiff_t) function c_getrandom(buffer, length, flags) bind(C, name='getrandom')
+            import :: c_ptrdiff_t, c_size_t, c_int, c_char
+            character(kind=c_char), intent(out) :: buffer(*)
+            integer(c_size_t), value :: length
+            integer(c_int), value :: flags
+        end function c_getrandom
 
         integer(c_int) function c_access(path, mode) bind(C, name='access')
             import :: c_int, c_char
@@ -125,30 +134,27 @@ contains
         end if
     end function process_running
 
-    !> `n` random hex digits from /dev/urandom (the clock and the process id if it cannot
-    !> be read: unique enough to tell runs apart).
+    !> `n` random hex digits from the kernel's generator (getrandom(2), the source of
+    !> /dev/urandom; the clock and the process id if it fails: unique enough to tell runs
+    !> apart). getrandom takes the bytes asked for, where a Fortran stream read of
+    !> /dev/urandom filled its whole buffer, 128 KiB, half a millisecond of a small deck's
+    !> run (docs/performance.md (ae)).
     function random_hex(n) result(hex)
         integer, intent(in) :: n
         character(len=n) :: hex
         character(len=*), parameter :: digits = '0123456789abcdef'
-        character(len=(n + 1)/2) :: bytes
-        integer :: unit, stat, k, value
+        character(kind=c_char) :: bytes((n + 1)/2)
+        integer :: k, value
         integer(int64) :: clock, mixed
-        open (newunit=unit, file='/dev/urandom', access='stream', form='unformatted', &
-              action='read', status='old', iostat=stat)
-        if (stat == 0) then
-            read (unit, iostat=stat) bytes
-            close (unit)
-        end if
-        if (stat /= 0) then
+        if (c_getrandom(bytes, int(size(bytes), c_size_t), 0_c_int) /= size(bytes)) then
             call system_clock(clock)
             mixed = ieor(clock, shiftl(int(process_id(), int64), 32))
-            do k = 1, len(bytes)
-                bytes(k:k) = char(int(iand(shiftr(mixed, 8*mod(k - 1, 8)), 255_int64)))
+            do k = 1, size(bytes)
+                bytes(k) = char(int(iand(shiftr(mixed, 8*mod(k - 1, 8)), 255_int64)))
             end do
         end if
         do k = 1, n
-            value = ichar(bytes((k + 1)/2:(k + 1)/2))
+            value = ichar(bytes((k + 1)/2))
             if (mod(k, 2) == 1) then
                 value = value/16
             else

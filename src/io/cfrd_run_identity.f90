@@ -8,7 +8,7 @@ module cfrd_run_identity
     use cfrd_clock, only: iso_timestamp
     use cfrd_sha256, only: file_sha256
     use cfrd_process, only: process_id, host_name, process_start_ticks, random_hex
-    use cfrd_files, only: resolved_path
+    use cfrd_files, only: resolved_path, path_exists
     implicit none
     private
 
@@ -73,6 +73,9 @@ contains
         character(len=512) :: line
         integer :: unit, stat, k, m, at, ending
         run_id = ''
+        ! A missing file is the usual case; asked first, as gfortran's failed OPEN loads the
+        ! C library's locale data to word its message (docs/performance.md (ae)).
+        if (.not. path_exists(path)) return
         open (newunit=unit, file=path, action='read', status='old', iostat=stat)
         if (stat /= 0) return
         do k = 1, header_lines

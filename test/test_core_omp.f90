@@ -1,0 +1,118 @@
+!> Tests of the parallel regions run in place (cfrd_omp_in_place.c, cfrd_omp_threads): a
+!> region that gets one thread runs on the caller without a team, one that gets two runs in
+!> libgomp's team of two (CHOLMOD's regions: test_solver_cholmod). The reference of every
+!> sum is its closed form, n (n + 1) / 2.
+module test_core_omp
+    use, intrinsic :: iso_c_binding, only: c_long_long
+    use cfrd_kinds, only: dp
+    use cfrd_error, only: error_t
+    use cfrd_testing, only: unittest_t, new_unittest, check
+    use cfrd_omp_threads, only: regions_in_place, begin_serial_library, end_serial_library
+    !$ use omp_lib, only: omp_get_num_threads, omp_set_num_threads, &
+    !$                    omp_get_max_threads, omp_set_dynamic
+    implicit none
+    private
+
+    public :: collect_core_omp
+
+    integer, parameter :: n = 100000
+
+contains
+
+    subroutine collect_core_omp(tests)
+        type(unittest_t), allocatable, intent(out) :: tests(:)
+        tests = [ &
+                new_unittest('one_thread_region_in_place', test_one_thread), &
+                new_unittest('serial_library_region_in_place', test_serial_library), &
+                new_unittest('two_thread_region_in_a_team', test_two_threads) &
+                ]
+    end subroutine collect_core_omp
+
+    !> Sum 1..n in a parallel region with a worksharing loop and a reduction; returns the
+    !> sum and the region's thread count. `ask` > 0 names the count in the construct.
+    subroutine region_sum(ask, total, threads)
+        integer, intent(in) :: ask
+        integer(c_long_long), intent(out) :: total
+        integer, intent(out) :: threads
+        integer :: i
+        total = 0
+        threads = 1
+        if (ask > 0) then
+            !$omp parallel num_threads(ask) shared(threads) reduction(+:total)
+            !$omp do schedule(dynamic, 1000)
+            do i = 1, n
+                total = total + i
+            end do
+            !$omp end do
+            !$omp single
+            !$ threads = omp_get_num_threads()
+            !$omp end single
+            !$omp end parallel
+        else
+            !$omp parallel shared(threads) reduction(+:total)
+            !$omp do schedule(dynamic, 1000)
+            do i = 1, n
+                total = total + i
+            end do
+            !$omp end do
+            !$omp single
+            !$ threads = omp_get_num_threads()
+            !$omp end single
+            !$omp end parallel
+        end if
+    end subroutine region_sum
+
+    !> With one thread (cfrd's default) a region runs in place: one more counted, one
+    !> thread, the closed-form sum.
+    subroutine test_one_thread(error)
+        type(error_t), allocatable, intent(out) :: error
+        integer(c_long_long) :: before, total
+        integer :: threads, saved
+        saved = 1
+        !$ saved = omp_get_max_threads()
+        !$ call omp_set_num_threads(1)
+        before = regions_in_place()
+        call region_sum(0, total, threads)
+        !$ call omp_set_num_threads(saved)
+        call check(error, threads, 1, 'threads of the region')
+        if (allocated(error)) return
+        call check(error, int(regions_in_place() - before), 1, 'regions run in place')
+        if (allocated(error)) return
+        call check(error, real(total, dp), real(n, dp)*(n + 1)/2, 'sum 1..n against n (n+1)/2')
+    end subroutine test_one_thread
+
+    !> With no active level allowed (begin_serial_library), a region that asks for four
+    !> threads runs in place on one.
+    subroutine test_serial_library(error)
+        type(error_t), allocatable, intent(out) :: error
+        integer(c_long_long) :: before, total
+        integer :: threads, saved
+        saved = begin_serial_library()
+        before = regions_in_place()
+        call region_sum(4, total, threads)
+        call end_serial_library(saved)
+        call check(error, threads, 1, 'threads of the region')
+        if (allocated(error)) return
+        call check(error, int(regions_in_place() - before), 1, 'regions run in place')
+        if (allocated(error)) return
+        call check(error, real(total, dp), real(n, dp)*(n + 1)/2, 'sum 1..n against n (n+1)/2')
+    end subroutine test_serial_library
+
+    !> A region that asks for two threads gets libgomp's team of two (not counted), with the
+    !> same sum. Without OpenMP the test has nothing to check but the sum.
+    subroutine test_two_threads(error)
+        type(error_t), allocatable, intent(out) :: error
+        integer(c_long_long) :: before, total
+        integer :: threads, expected
+        expected = 1
+        !$ expected = 2
+        !$ call omp_set_dynamic(.false.)
+        before = regions_in_place()
+        call region_sum(2, total, threads)
+        call check(error, threads, expected, 'threads of the region')
+        if (allocated(error)) return
+        call check(error, int(regions_in_place() - before), 0, 'regions run in place')
+        if (allocated(error)) return
+        call check(error, real(total, dp), real(n, dp)*(n + 1)/2, 'sum 1..n against n (n+1)/2')
+    end subroutine test_two_threads
+end module test_core_omp
