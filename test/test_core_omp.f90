@@ -34,33 +34,34 @@ contains
         integer, intent(in) :: ask
         integer(c_long_long), intent(out) :: total
         integer, intent(out) :: threads
-        integer :: i
         total = 0
         threads = 1
         if (ask > 0) then
-            !$omp parallel num_threads(ask) shared(threads) reduction(+:total)
-            !$omp do schedule(dynamic, 1000)
-            do i = 1, n
-                total = total + i
-            end do
-            !$omp end do
-            !$omp single
-            !$ threads = omp_get_num_threads()
-            !$omp end single
+            !$omp parallel num_threads(ask) shared(total, threads)
+            call region_body(total, threads)
             !$omp end parallel
         else
-            !$omp parallel shared(threads) reduction(+:total)
-            !$omp do schedule(dynamic, 1000)
-            do i = 1, n
-                total = total + i
-            end do
-            !$omp end do
-            !$omp single
-            !$ threads = omp_get_num_threads()
-            !$omp end single
+            !$omp parallel shared(total, threads)
+            call region_body(total, threads)
             !$omp end parallel
         end if
     end subroutine region_sum
+
+    !> The region's work, orphaned constructs binding to the caller's region: the sum of
+    !> 1..n shared out, and the team's size.
+    subroutine region_body(total, threads)
+        integer(c_long_long), intent(inout) :: total
+        integer, intent(inout) :: threads
+        integer :: i
+        !$omp do schedule(dynamic, 1000) reduction(+:total)
+        do i = 1, n
+            total = total + i
+        end do
+        !$omp end do
+        !$omp single
+        !$ threads = omp_get_num_threads()
+        !$omp end single
+    end subroutine region_body
 
     !> With one thread (cfrd's default) a region runs in place: one more counted, one
     !> thread, the closed-form sum.
