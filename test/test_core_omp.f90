@@ -63,57 +63,55 @@ contains
         !$omp end single
     end subroutine region_body
 
-    !> With one thread (cfrd's default) a region runs in place: one more counted, one
-    !> thread, the closed-form sum.
-    subroutine test_one_thread(error)
+    !> Sum 1..n in a region that asks for `ask` threads (0: no count named) and check the
+    !> team's size, the regions run in place (0 or 1; none built without OpenMP, where the
+    !> directives are comments) and the sum against n (n + 1) / 2.
+    subroutine check_region(ask, threads_expected, in_place_expected, error)
+        integer, intent(in) :: ask, threads_expected, in_place_expected
         type(error_t), allocatable, intent(out) :: error
         integer(c_long_long) :: before, total
-        integer :: threads, saved
+        integer :: threads, in_place
+        in_place = 0
+        !$ in_place = in_place_expected
+        before = regions_in_place()
+        call region_sum(ask, total, threads)
+        call check(error, threads, threads_expected, 'threads of the region')
+        if (allocated(error)) return
+        call check(error, int(regions_in_place() - before), in_place, &
+                   'regions run in place')
+        if (allocated(error)) return
+        call check(error, real(total, dp), real(n, dp)*(n + 1)/2, 'sum 1..n against n (n+1)/2')
+    end subroutine check_region
+
+    !> With one thread (cfrd's default) a region that names no count runs in place.
+    subroutine test_one_thread(error)
+        type(error_t), allocatable, intent(out) :: error
+        integer :: saved
         saved = 1
         !$ saved = omp_get_max_threads()
         !$ call omp_set_num_threads(1)
-        before = regions_in_place()
-        call region_sum(0, total, threads)
+        call check_region(0, 1, 1, error)
         !$ call omp_set_num_threads(saved)
-        call check(error, threads, 1, 'threads of the region')
-        if (allocated(error)) return
-        call check(error, int(regions_in_place() - before), 1, 'regions run in place')
-        if (allocated(error)) return
-        call check(error, real(total, dp), real(n, dp)*(n + 1)/2, 'sum 1..n against n (n+1)/2')
     end subroutine test_one_thread
 
     !> With no active level allowed (begin_serial_library), a region that asks for four
     !> threads runs in place on one.
     subroutine test_serial_library(error)
         type(error_t), allocatable, intent(out) :: error
-        integer(c_long_long) :: before, total
-        integer :: threads, saved
+        integer :: saved
         saved = begin_serial_library()
-        before = regions_in_place()
-        call region_sum(4, total, threads)
+        call check_region(4, 1, 1, error)
         call end_serial_library(saved)
-        call check(error, threads, 1, 'threads of the region')
-        if (allocated(error)) return
-        call check(error, int(regions_in_place() - before), 1, 'regions run in place')
-        if (allocated(error)) return
-        call check(error, real(total, dp), real(n, dp)*(n + 1)/2, 'sum 1..n against n (n+1)/2')
     end subroutine test_serial_library
 
     !> A region that asks for two threads gets libgomp's team of two (not counted), with the
-    !> same sum. Without OpenMP the test has nothing to check but the sum.
+    !> same sum. Without OpenMP the loop runs on one thread.
     subroutine test_two_threads(error)
         type(error_t), allocatable, intent(out) :: error
-        integer(c_long_long) :: before, total
-        integer :: threads, expected
-        expected = 1
-        !$ expected = 2
+        integer :: expected_threads
+        expected_threads = 1
+        !$ expected_threads = 2
         !$ call omp_set_dynamic(.false.)
-        before = regions_in_place()
-        call region_sum(2, total, threads)
-        call check(error, threads, expected, 'threads of the region')
-        if (allocated(error)) return
-        call check(error, int(regions_in_place() - before), 0, 'regions run in place')
-        if (allocated(error)) return
-        call check(error, real(total, dp), real(n, dp)*(n + 1)/2, 'sum 1..n against n (n+1)/2')
+        call check_region(2, expected_threads, 0, error)
     end subroutine test_two_threads
 end module test_core_omp

@@ -100,7 +100,8 @@ module cfrd_umfpack
         procedure :: factor_nonzeros
         procedure :: is_updated
         procedure :: release
-        procedure, private :: solve_factors, solve_updated, forget_update, free_spare
+        procedure, private :: solve_factors, solve_updated, forget_update, free_spare, &
+                              spare_matches, drop_solve_state
         final :: finalise
     end type umfpack_t
 
@@ -284,19 +285,14 @@ contains
             if (allocated(error)) return
         end if
         if (c_associated(self%numeric)) call umfpack_di_free_numeric(self%numeric)
-        call self%forget_update()
-        if (c_associated(self%spare)) then
-            if (size(self%spare_base) == pattern%nnz) then
-                if (all(self%spare_base == values(1:pattern%nnz))) then
-                    self%numeric = self%spare
-                    self%spare = c_null_ptr
-                    call move_alloc(self%spare_base, self%base)
-                    self%info = self%spare_info
-                    if (allocated(self%b_base)) deallocate (self%b_base, self%x_base)
-                    if (present(reused)) reused = .true.
-                    return
-                end if
-            end if
+        call self%drop_solve_state()
+        if (self%spare_matches(pattern, values)) then
+            self%numeric = self%spare
+            self%spare = c_null_ptr
+            call move_alloc(self%spare_base, self%base)
+            self%info = self%spare_info
+            if (present(reused)) reused = .true.
+            return
         end if
         status = umfpack_di_numeric(pattern%colptr, pattern%rowind, values, self%symbolic, &
                                     self%numeric, self%control, self%info)
@@ -318,8 +314,26 @@ contains
         else
             self%base = values(1:pattern%nnz)
         end if
-        if (allocated(self%b_base)) deallocate (self%b_base, self%x_base)
     end subroutine factorise
+
+    !> Whether the factorisation set aside is that of `values`, bit for bit (ALL stops at
+    !> the first difference).
+    logical function spare_matches(self, pattern, values) result(matches)
+        class(umfpack_t), intent(in) :: self
+        type(sparse_pattern_t), intent(in) :: pattern
+        real(dp), intent(in) :: values(:)
+        matches = c_associated(self%spare)
+        if (matches) matches = size(self%spare_base) == pattern%nnz
+        if (matches) matches = all(self%spare_base == values(1:pattern%nnz))
+    end function spare_matches
+
+    !> What the solves kept of the factorisation in use (its low-rank update and the base
+    !> solve of A0), dropped when that factorisation is replaced or set aside.
+    subroutine drop_solve_state(self)
+        class(umfpack_t), intent(inout) :: self
+        call self%forget_update()
+        if (allocated(self%b_base)) deallocate (self%b_base, self%x_base)
+    end subroutine drop_solve_state
 
     !> Set the numeric factorisation aside (replacing one set aside before): factorise takes
     !> it back when it is given its matrix again. The solves have no factorisation until
@@ -332,8 +346,7 @@ contains
         self%numeric = c_null_ptr
         call move_alloc(self%base, self%spare_base)
         self%spare_info = self%info
-        call self%forget_update()
-        if (allocated(self%b_base)) deallocate (self%b_base, self%x_base)
+        call self%drop_solve_state()
     end subroutine set_aside
 
     !> Free the factorisation set aside, if any.
