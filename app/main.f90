@@ -298,22 +298,30 @@ contains
         end if
     end subroutine check_outputs
 
-    !> After each stage: write it to the result files, then print its progress line.
+    !> After each stage: write it to the result files behind the analysis of the next stage
+    !> (cfrd_stage_writer), then print its progress line (report_stage). The error of an
+    !> earlier write, if any, is taken first; after it nothing more is written, and the
+    !> stages are still reported.
     subroutine stream_stage(number, total, stage)
         integer, intent(in) :: number, total
         type(stage_result_t), intent(in) :: stage
-        ! written behind the analysis of the next stage (cfrd_stage_writer); the error of
-        ! an earlier write, if any, is taken first, and nothing more is written
         call wait_stage_writes(current%write_error)
         if (allocated(current%write_error)) then
-            continue
+            call report_stage(number, total, stage)
         else if (copies_stage(number)) then
             ! cfrd --restart: a stored stage, stored as this run stores it: copied
-            call write_stage_behind(current%output, current%model, number, stage, &
-                                    current%source%file_id)
+            call write_stage_behind(current%output, current%model, number, total, stage, &
+                                    report_stage, current%source%file_id)
         else
-            call write_stage_behind(current%output, current%model, number, stage)
+            call write_stage_behind(current%output, current%model, number, total, stage, &
+                                    report_stage)
         end if
+    end subroutine stream_stage
+
+    !> A stage's progress line, once it is in the files (on the stage writer's thread).
+    subroutine report_stage(number, total, stage)
+        integer, intent(in) :: number, total
+        type(stage_result_t), intent(in) :: stage
         ! Increments accepted above ERRTOL (error control at its depth limit): even --quiet.
         if (allocated(stage%warning)) write (error_unit, '(a,i0,a)') 'cfrd: warning: ', &
             stage%unbalanced, ' increment(s) accepted out of balance, the first: '// &
@@ -325,7 +333,7 @@ contains
             stage%cutbacks, ' cutbacks, residual', stage%max_residual, ',', stage%wall_time, &
             ' s'
         flush (output_unit)
-    end subroutine stream_stage
+    end subroutine report_stage
 
     !> cfrd --restart: whether stage `number` is a stored one stored as this run stores
     !> its values (then its HDF5 group is copied).

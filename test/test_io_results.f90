@@ -1,7 +1,8 @@
 !> Tests of the result writers: what is written to HDF5 is read back unchanged through the
 !> HDF5 library (reals round-trip bit for bit, so the tolerance is zero), the listing carries
 !> the hand-made numbers, and an unwritable path is an io_error. Stages written behind the
-!> analysis (cfrd_stage_writer) reach the file as handed over, on the second thread.
+!> analysis (cfrd_stage_writer) reach the file as handed over, on the second thread, each
+!> reported after its write.
 module test_io_results
     use hdf5, only: hid_t, hsize_t, h5open_f, h5close_f, h5fopen_f, h5fclose_f, h5dopen_f, &
                     h5dread_f, h5dclose_f, h5aopen_by_name_f, h5aread_f, h5aclose_f, &
@@ -11,7 +12,7 @@ module test_io_results
     use cfrd_error, only: error_t, io_error
     use cfrd_testing, only: unittest_t, new_unittest, check, fail
     use cfrd_model, only: model_t, gauge_t
-    use cfrd_results, only: results_t
+    use cfrd_results, only: results_t, stage_result_t
     use cfrd_hdf5, only: write_results_h5, results_file_t, open_results_h5, write_stage_h5, &
                          close_results_h5, results_format_t
     use cfrd_xdmf, only: xml_escape
@@ -29,6 +30,11 @@ module test_io_results
     public :: collect_io_results
 
     character(len=*), parameter :: dir = 'build/test-results/'
+
+    !> test_written_behind's reports: the output written, and per report the stage number
+    !> and the output's completed stages when it came
+    type(run_output_t), pointer :: watched => null()
+    integer, allocatable :: reported(:), completed_at_report(:)
 
 contains
 
@@ -470,10 +476,13 @@ contains
         if (allocated(error)) return
         jobs = stage_writes_behind()
         before = results%stages(1)%displacement
-        call write_stage_behind(out, model, 1, results%stages(1))
+        watched => out
+        reported = [integer ::]
+        completed_at_report = [integer ::]
+        call write_stage_behind(out, model, 1, 2, results%stages(1), record_report)
         results%stages(1)%displacement = -results%stages(1)%displacement
         after = results%stages(1)%displacement
-        call write_stage_behind(out, model, 2, results%stages(1))
+        call write_stage_behind(out, model, 2, 2, results%stages(1), record_report)
         call wait_stage_writes(write_error)
         call close_results_h5(out%h5, .false.)
         if (allocated(write_error)) then
@@ -481,6 +490,11 @@ contains
             return
         end if
         call check(error, out%completed, 2, 'stages completed')
+        if (allocated(error)) return
+        call check(error, size(reported) == 2, 'two reports')
+        if (allocated(error)) return
+        call check(error, all(reported == [1, 2]) .and. all(completed_at_report == [1, 2]), &
+                   'each stage reported in order, after its write')
         if (allocated(error)) return
         call get_environment_variable('CFRD_WRITE_BEHIND', setting, length)
         if (trim(setting) /= '0') then
@@ -504,10 +518,21 @@ contains
         call h5close_f(hdferr)
         if (allocated(error)) return
         ! the file is closed: the next write fails, and the wait says so
-        call write_stage_behind(out, model, 2, results%stages(1))
+        call write_stage_behind(out, model, 2, 2, results%stages(1), record_report)
         call wait_stage_writes(write_error)
         call check(error, allocated(write_error), 'a failed write behind returns its error')
         if (allocated(error)) return
+        call check(error, size(reported), 3, 'the failed write still reported')
+        if (allocated(error)) return
         call check(error, write_error%category, io_error, 'the failed write is an io_error')
     end subroutine test_written_behind
+
+    !> test_written_behind's report (on the writer's thread): the stage and the stages the
+    !> output had completed when it came.
+    subroutine record_report(number, total, stage)
+        integer, intent(in) :: number, total
+        type(stage_result_t), intent(in) :: stage
+        reported = [reported, number]
+        completed_at_report = [completed_at_report, watched%completed]
+    end subroutine record_report
 end module test_io_results

@@ -3,7 +3,9 @@
 !> HDF5 group with its deflate, the CSV rows, the legacy listing). write_stage_behind hands
 !> over a copy of the stage and returns; it first waits for the stage handed over before
 !> it, so one write at most runs behind, and the stages reach the files in their order and
-!> as add_stage writes them on the caller's thread: the same bytes. wait_stage_writes waits
+!> as add_stage writes them on the caller's thread: the same bytes. Each stage is reported
+!> (cfrd's progress line) after its write, so a stage reported is in the files, as before
+!> (a run killed after "stage 3/" keeps stage 3: tools/cli_failure_test.sh). wait_stage_writes waits
 !> for the last and returns the first write's error; every use of the run's output other
 !> than these two (finish_output, keep_incomplete, discard_output, its summaries) comes
 !> after it. The thread (cfrd_behind.c) takes one job at a time; HDF5 is built thread-safe
@@ -19,7 +21,17 @@ module cfrd_stage_writer
     implicit none
     private
 
-    public :: write_stage_behind, wait_stage_writes, stage_writes_behind
+    public :: write_stage_behind, wait_stage_writes, stage_writes_behind, stage_report_i
+
+    abstract interface
+        !> What the run reports of stage `number` of `total` once it is written (cfrd's
+        !> progress line): called on the writer's thread, after add_stage, in stage order.
+        subroutine stage_report_i(number, total, stage)
+            import :: stage_result_t
+            integer, intent(in) :: number, total
+            type(stage_result_t), intent(in) :: stage
+        end subroutine stage_report_i
+    end interface
 
     !> The write handed over: the run's output and model (the caller's, which stay in
     !> place until wait_stage_writes), the stage's copy and number, the file it is copied
@@ -27,7 +39,8 @@ module cfrd_stage_writer
     type(run_output_t), pointer :: output => null()
     type(model_t), pointer :: model => null()
     type(stage_result_t), save :: stage_copy
-    integer, save :: number = 0
+    integer, save :: number = 0, total = 0
+    procedure(stage_report_i), pointer, save :: report => null()
     integer(hid_t), save :: source = -1
     logical, save :: copied = .false.
     type(error_t), allocatable, save :: write_error
@@ -46,20 +59,25 @@ module cfrd_stage_writer
 
 contains
 
-    !> Hand stage `stage_number` of `out` over to be written behind (add_stage's arguments;
-    !> `copy_from`: its group is copied from that open results file). Nothing is written
-    !> after a write has failed: wait_stage_writes returns that error.
-    subroutine write_stage_behind(out, run_model, stage_number, stage, copy_from)
+    !> Hand stage `stage_number` of `stages` of `out` over to be written behind (add_stage's
+    !> arguments; `copy_from`: its group is copied from that open results file), then
+    !> reported by `reported_by` (whether or not the write succeeded). Nothing is written
+    !> after a write has failed (wait_stage_writes returns that error); the stage is
+    !> still reported.
+    subroutine write_stage_behind(out, run_model, stage_number, stages, stage, reported_by, &
+                                  copy_from)
         type(run_output_t), target, intent(inout) :: out
         type(model_t), target, intent(in) :: run_model
-        integer, intent(in) :: stage_number
+        integer, intent(in) :: stage_number, stages
         type(stage_result_t), intent(in) :: stage
+        procedure(stage_report_i) :: reported_by
         integer(hid_t), intent(in), optional :: copy_from
         call c_behind_wait()
-        if (allocated(write_error)) return
         output => out
         model => run_model
         number = stage_number
+        total = stages
+        report => reported_by
         copied = present(copy_from)
         if (copied) source = copy_from
         stage_copy = stage
@@ -88,17 +106,20 @@ contains
         count = int(c_behind_jobs())
     end function stage_writes_behind
 
-    !> The job: add_stage with what was handed over. HDF5's automatic printing of its
+    !> The job: add_stage with what was handed over, then its report. HDF5's automatic printing of its
     !> error stack is a setting of each thread; off here as on the caller's (open_results_h5).
     subroutine write_handed_over() bind(C)
         type(error_t), allocatable :: error
         integer :: hdferr
         call h5eset_auto_f(0, hdferr)
-        if (copied) then
+        if (allocated(write_error)) then
+            continue
+        else if (copied) then
             call add_stage(output, model, number, stage_copy, error, source)
         else
             call add_stage(output, model, number, stage_copy, error)
         end if
         if (allocated(error)) call move_alloc(error, write_error)
+        call report(number, total, stage_copy)
     end subroutine write_handed_over
 end module cfrd_stage_writer
