@@ -5,12 +5,13 @@
 !> it, so one write at most runs behind, and the stages reach the files in their order and
 !> as add_stage writes them on the caller's thread: the same bytes. Each stage is reported
 !> (cfrd's progress line) after its write, so a stage reported is in the files, as before
-!> (a run killed after "stage 3/" keeps stage 3: tools/cli_failure_test.sh). wait_stage_writes waits
-!> for the last and returns the first write's error; every use of the run's output other
-!> than these two (finish_output, keep_incomplete, discard_output, its summaries) comes
-!> after it. The thread (cfrd_behind.c) takes one job at a time; HDF5 is built thread-safe
-!> (Debian's libhdf5.settings: "Threadsafety: yes"), so the analysis may read a restart
-!> file meanwhile. One run's writes at a time per process (module state).
+!> (a run killed after "stage 3/" keeps stage 3: tools/cli_failure_test.sh).
+!> wait_stage_writes waits for the last and returns the first write's error; every use of
+!> the run's output other than these two (finish_output, keep_incomplete, discard_output,
+!> its summaries) comes after it. The thread (cfrd_behind.c) takes one job at a time;
+!> HDF5 is built thread-safe (Debian's libhdf5.settings: "Threadsafety: yes"), so the
+!> analysis may read a restart file meanwhile. One run's writes at a time per process
+!> (module state).
 module cfrd_stage_writer
     use, intrinsic :: iso_c_binding, only: c_funptr, c_funloc, c_long
     use hdf5, only: hid_t, h5eset_auto_f
@@ -106,8 +107,9 @@ contains
         count = int(c_behind_jobs())
     end function stage_writes_behind
 
-    !> The job: add_stage with what was handed over, then its report. HDF5's automatic printing of its
-    !> error stack is a setting of each thread; off here as on the caller's (open_results_h5).
+    !> The job: add_stage with what was handed over, then its report. HDF5's automatic
+    !> printing of its error stack is a setting of each thread; off here as on the caller's
+    !> (open_results_h5).
     subroutine write_handed_over() bind(C)
         type(error_t), allocatable :: error
         integer :: hdferr
