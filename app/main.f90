@@ -10,7 +10,7 @@ program cfrd_main
     use cfrd_deck, only: read_deck
     use cfrd_stage_driver, only: run_analysis
     use cfrd_listing, only: write_summary
-    use cfrd_run_output, only: run_output_t, begin_output, add_stage, finish_output, &
+    use cfrd_run_output, only: run_output_t, begin_output, finish_output, &
                                keep_incomplete, discard_output, result_stem, &
                                check_result_names, check_inputs_kept, lock_ending
     use cfrd_run_identity, only: run_identity_t, new_run_identity
@@ -21,6 +21,7 @@ program cfrd_main
     use cfrd_strings, only: to_text
     use cfrd_memory, only: tune_allocator
     use cfrd_hdf5, only: results_format_t
+    use cfrd_stage_writer, only: write_stage_behind, wait_stage_writes
     use cfrd_blas_threads, only: set_blas_threads
     use cfrd_omp_threads, only: set_omp_threads
     use cfrd_linear_solver, only: linear_solver_auto, linear_solver_cholmod, &
@@ -60,7 +61,8 @@ program cfrd_main
     end type current_run_t
 
     type(options_t) :: options
-    type(current_run_t) :: current
+    !> (a target: the stage writer keeps pointers to its output and model while it writes)
+    type(current_run_t), target :: current
     character(len=:), allocatable :: decks(:)
     type(error_t), allocatable :: error
     integer :: i, status, worst
@@ -171,6 +173,8 @@ contains
                 else
                     call run_analysis(model, results, error, stream_stage, last_only=.true.)
                 end if
+                ! the last stage's write done, and the first write error, if any, taken
+                call wait_stage_writes(current%write_error)
                 ! the file continued from is read; it may be replaced now
                 call close_restart(current%source)
                 if (allocated(error)) then
@@ -294,21 +298,30 @@ contains
         end if
     end subroutine check_outputs
 
-    !> After each stage: write it to the result files, then print its progress line.
+    !> After each stage: write it to the result files behind the analysis of the next stage
+    !> (cfrd_stage_writer), then print its progress line (report_stage). The error of an
+    !> earlier write, if any, is taken first; after it nothing more is written, and the
+    !> stages are still reported.
     subroutine stream_stage(number, total, stage)
         integer, intent(in) :: number, total
         type(stage_result_t), intent(in) :: stage
-        type(error_t), allocatable :: error
+        call wait_stage_writes(current%write_error)
         if (allocated(current%write_error)) then
-            continue
+            call report_stage(number, total, stage)
         else if (copies_stage(number)) then
             ! cfrd --restart: a stored stage, stored as this run stores it: copied
-            call add_stage(current%output, current%model, number, stage, error, &
-                           current%source%file_id)
+            call write_stage_behind(current%output, current%model, number, total, stage, &
+                                    report_stage, current%source%file_id)
         else
-            call add_stage(current%output, current%model, number, stage, error)
+            call write_stage_behind(current%output, current%model, number, total, stage, &
+                                    report_stage)
         end if
-        if (allocated(error)) call move_alloc(error, current%write_error)
+    end subroutine stream_stage
+
+    !> A stage's progress line, once it is in the files (on the stage writer's thread).
+    subroutine report_stage(number, total, stage)
+        integer, intent(in) :: number, total
+        type(stage_result_t), intent(in) :: stage
         ! Increments accepted above ERRTOL (error control at its depth limit): even --quiet.
         if (allocated(stage%warning)) write (error_unit, '(a,i0,a)') 'cfrd: warning: ', &
             stage%unbalanced, ' increment(s) accepted out of balance, the first: '// &
@@ -320,7 +333,7 @@ contains
             stage%cutbacks, ' cutbacks, residual', stage%max_residual, ',', stage%wall_time, &
             ' s'
         flush (output_unit)
-    end subroutine stream_stage
+    end subroutine report_stage
 
     !> cfrd --restart: whether stage `number` is a stored one stored as this run stores
     !> its values (then its HDF5 group is copied).

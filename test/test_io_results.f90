@@ -1,6 +1,8 @@
 !> Tests of the result writers: what is written to HDF5 is read back unchanged through the
 !> HDF5 library (reals round-trip bit for bit, so the tolerance is zero), the listing carries
-!> the hand-made numbers, and an unwritable path is an io_error.
+!> the hand-made numbers, and an unwritable path is an io_error. Stages written behind the
+!> analysis (cfrd_stage_writer) reach the file as handed over, on the second thread, each
+!> reported after its write.
 module test_io_results
     use hdf5, only: hid_t, hsize_t, h5open_f, h5close_f, h5fopen_f, h5fclose_f, h5dopen_f, &
                     h5dread_f, h5dclose_f, h5aopen_by_name_f, h5aread_f, h5aclose_f, &
@@ -10,7 +12,7 @@ module test_io_results
     use cfrd_error, only: error_t, io_error
     use cfrd_testing, only: unittest_t, new_unittest, check, fail
     use cfrd_model, only: model_t, gauge_t
-    use cfrd_results, only: results_t
+    use cfrd_results, only: results_t, stage_result_t
     use cfrd_hdf5, only: write_results_h5, results_file_t, open_results_h5, write_stage_h5, &
                          close_results_h5, results_format_t
     use cfrd_xdmf, only: xml_escape
@@ -19,12 +21,20 @@ module test_io_results
     use cfrd_listing, only: write_listing, write_gauge_csv
     use cfrd_stage_summary, only: summarise_run
     use cfrd_test_models, only: new_model, elastic_material
+    use cfrd_run_output, only: run_output_t, begin_output
+    use cfrd_run_identity, only: run_identity_t
+    use cfrd_stage_writer, only: write_stage_behind, wait_stage_writes, stage_writes_behind
     implicit none
     private
 
     public :: collect_io_results
 
     character(len=*), parameter :: dir = 'build/test-results/'
+
+    !> test_written_behind's reports: the output written, and per report the stage number
+    !> and the output's completed stages when it came
+    type(run_output_t), pointer :: watched => null()
+    integer, allocatable :: reported(:), completed_at_report(:)
 
 contains
 
@@ -38,7 +48,8 @@ contains
                 new_unittest('xml_escape', test_xml_escape), &
                 new_unittest('listing_tables', test_listing), &
                 new_unittest('gauge_csv', test_gauge_csv), &
-                new_unittest('unwritable_path_is_io_error', test_unwritable) &
+                new_unittest('unwritable_path_is_io_error', test_unwritable), &
+                new_unittest('stages_written_behind', test_written_behind) &
                 ]
     end subroutine collect_io_results
 
@@ -440,4 +451,88 @@ contains
         category = error%category
         call check(error, category, io_error, 'HDF5 error category')
     end subroutine test_unwritable
+    !> Two stages handed to the writer behind the analysis: both are written by the second
+    !> thread (unless CFRD_WRITE_BEHIND=0 runs them on the caller), in order, and each as
+    !> it was when handed over: the first's displacements are changed after its hand-over,
+    !> and the file holds the values before the change (reference: the values handed over,
+    !> bit for bit). A write to the closed file is an io_error, returned by the wait.
+    subroutine test_written_behind(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(model_t) :: model
+        type(results_t) :: results
+        type(run_output_t), target :: out
+        type(error_t), allocatable :: write_error
+        character(len=32) :: setting
+        integer(hid_t) :: file_id
+        real(dp), allocatable :: before(:, :), after(:, :)
+        integer :: jobs, hdferr, length
+        call sample(model, results)
+        model%stages = [model%stages(1), model%stages(1)]
+        call execute_command_line('mkdir -p '//dir)
+        call begin_output(out, dir//'behind', model, &
+                          run_identity_t(run_id='test', deck_sha256=repeat('0', 64), &
+                                         deck_path='behind.dat', started='2026-11-28', &
+                                         host='test', pid=1, start_ticks=''), error, .false.)
+        if (allocated(error)) return
+        jobs = stage_writes_behind()
+        before = results%stages(1)%displacement
+        watched => out
+        reported = [integer ::]
+        completed_at_report = [integer ::]
+        call write_stage_behind(out, model, 1, 2, results%stages(1), record_report)
+        results%stages(1)%displacement = -results%stages(1)%displacement
+        after = results%stages(1)%displacement
+        call write_stage_behind(out, model, 2, 2, results%stages(1), record_report)
+        call wait_stage_writes(write_error)
+        call close_results_h5(out%h5, .false.)
+        if (allocated(write_error)) then
+            call move_alloc(write_error, error)
+            return
+        end if
+        call check(error, out%completed, 2, 'stages completed')
+        if (allocated(error)) return
+        call check(error, size(reported) == 2, 'two reports')
+        if (allocated(error)) return
+        call check(error, all(reported == [1, 2]) .and. all(completed_at_report == [1, 2]), &
+                   'each stage reported in order, after its write')
+        if (allocated(error)) return
+        call get_environment_variable('CFRD_WRITE_BEHIND', setting, length)
+        if (trim(setting) /= '0') then
+            call check(error, stage_writes_behind() - jobs, 2, 'writes on the second thread')
+            if (allocated(error)) return
+        end if
+        call h5open_f(hdferr)
+        call h5fopen_f(dir//'behind.h5.part', H5F_ACC_RDONLY_F, file_id, hdferr)
+        if (hdferr < 0) then
+            call fail(error, 'cannot open the file written behind')
+            return
+        end if
+        call check(error, all(reshape(read_doubles(file_id, 'stages/stage_0001/displacement', &
+                                                   12), [2, 6]) == before), &
+                   'stage 1 as handed over')
+        if (.not. allocated(error)) &
+            call check(error, all(reshape(read_doubles(file_id, &
+                                                       'stages/stage_0002/displacement', 12), &
+                                          [2, 6]) == after), 'stage 2 as handed over')
+        call h5fclose_f(file_id, hdferr)
+        call h5close_f(hdferr)
+        if (allocated(error)) return
+        ! the file is closed: the next write fails, and the wait says so
+        call write_stage_behind(out, model, 2, 2, results%stages(1), record_report)
+        call wait_stage_writes(write_error)
+        call check(error, allocated(write_error), 'a failed write behind returns its error')
+        if (allocated(error)) return
+        call check(error, size(reported), 3, 'the failed write still reported')
+        if (allocated(error)) return
+        call check(error, write_error%category, io_error, 'the failed write is an io_error')
+    end subroutine test_written_behind
+
+    !> test_written_behind's report (on the writer's thread): the stage and the stages the
+    !> output had completed when it came.
+    subroutine record_report(number, total, stage)
+        integer, intent(in) :: number, total
+        type(stage_result_t), intent(in) :: stage
+        reported = [reported, number]
+        completed_at_report = [completed_at_report, watched%completed]
+    end subroutine record_report
 end module test_io_results

@@ -6,7 +6,9 @@ docs/results.md, "Running many decks").
     make batch DECKS="inputs/a.dat inputs/b.dat" [OUT=DIR] [JOBS=N]
 
 Each deck runs as `cfrd --out DIR DECK` (OPENBLAS_NUM_THREADS=1), at most N at a time, what it
-prints in DIR/DECK.log; then a summary is printed and written to DIR/batch-summary.csv.
+prints in DIR/DECK.log; with N at least the cores, also CFRD_WRITE_BEHIND=0 (unless set): every
+core runs a deck, so none is free to write a deck's stages behind its analysis (docs/performance.md
+(ag)); then a summary is printed and written to DIR/batch-summary.csv.
 SIGINT or SIGTERM is passed on to the decks running (they keep their completed stages); the
 others are "not run". Exit status: 0 when every deck ran; else the number of failed decks (at
 most 100); 101 when the batch could not start (bad arguments, no program, --out naming a
@@ -134,14 +136,23 @@ def error_of(lines):
     return errors[-1] if errors else None
 
 
-def run_one(run, cfrd, out, running):
+def deck_environment(jobs):
+    """The environment of each deck's run: one BLAS thread; and with a deck on every core
+    (`jobs` at least the cores), the stages written on the run's own thread, not behind it
+    (CFRD_WRITE_BEHIND=0, unless set): no core is free for the second thread."""
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
+    if jobs >= default_jobs():
+        env.setdefault("CFRD_WRITE_BEHIND", "0")
+    return env
+
+
+def run_one(run, cfrd, out, running, env):
     log = os.path.join(out, run.stem + ".log")
     start = time.monotonic()
     with open(log, "w") as fh:
         try:
             proc = subprocess.Popen([cfrd, "--out", out, run.deck], stdout=fh,
-                                    stderr=subprocess.STDOUT,
-                                    env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
+                                    stderr=subprocess.STDOUT, env=env)
         except OSError as exc:
             run.returncode = 127
             run.message = f"cannot start {cfrd}: {exc.strerror}"
@@ -178,7 +189,8 @@ def run_batch(decks, cfrd, out, jobs, progress=None):
     pool, futures = concurrent.futures.ThreadPoolExecutor(max_workers=jobs), []
     try:
         # Largest decks first: the last to finish is then a small one (shorter total time).
-        futures = [pool.submit(run_one, r, cfrd, out, running) for r in
+        env = deck_environment(jobs)
+        futures = [pool.submit(run_one, r, cfrd, out, running, env) for r in
                    sorted(runs, key=lambda r: -(os.path.getsize(r.deck)
                                                 if os.path.exists(r.deck) else 0))]
         for fut in concurrent.futures.as_completed(futures):

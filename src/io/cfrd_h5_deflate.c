@@ -24,7 +24,9 @@
  * after every H5open (cfrd_h5_deflate.f90, h5_open).
  *
  * One compressor per level and one decompressor are kept for the process (freed at exit):
- * HDF5 calls its filters from one thread at a time (cfrd writes and reads files serially).
+ * HDF5 calls its filters from one thread at a time: the thread-safe library (Debian's) runs
+ * one API call at a time, and cfrd's stage writer (cfrd_stage_writer) writes on a second
+ * thread while the analysis may read a restart file.
  */
 #include <stddef.h>
 #include <stdlib.h>
