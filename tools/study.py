@@ -218,6 +218,9 @@ def write_slurm(path, decks_txt, decks, results_dir, cfrd, name, options):
              f"#SBATCH --output={results_dir}/slurm-%A_%a.out"] + [f"#SBATCH {o}" for o in options]
     lines += ["set -euo pipefail", "# One BLAS thread: the cluster runs the cases side by side.",
               "export OPENBLAS_NUM_THREADS=1",
+              "# Each task has one core: the stages written on the run's own thread, not behind",
+              "# its analysis (docs/performance.md (ag)).",
+              "export CFRD_WRITE_BEHIND=0",
               ": \"${SLURM_ARRAY_TASK_ID:?not set: run this script with sbatch}\"",
               f"deck=$(sed -n \"${{SLURM_ARRAY_TASK_ID}}p\" {q(decks_txt)})",
               "[[ -n $deck ]] || { echo \"no deck for task $SLURM_ARRAY_TASK_ID\" >&2; exit 2; }",
