@@ -451,11 +451,13 @@ contains
         category = error%category
         call check(error, category, io_error, 'HDF5 error category')
     end subroutine test_unwritable
-    !> Two stages handed to the writer behind the analysis: both are written by the second
-    !> thread (unless CFRD_WRITE_BEHIND=0 runs them on the caller), in order, and each as
-    !> it was when handed over: the first's displacements are changed after its hand-over,
-    !> and the file holds the values before the change (reference: the values handed over,
-    !> bit for bit). A write to the closed file is an io_error, returned by the wait.
+    !> Three stages handed to the writer behind the analysis: the first two are written by
+    !> the second thread (unless CFRD_WRITE_BEHIND=0 runs them on the caller), in order, and
+    !> each as it was when handed over: the first's displacements are changed after its
+    !> hand-over, and the file holds the values before the change (reference: the values
+    !> handed over, bit for bit); the last is written on the caller's thread before the call
+    !> returns. Each is reported after its write. A write to the closed file is an
+    !> io_error, returned by the wait.
     subroutine test_written_behind(error)
         type(error_t), allocatable, intent(out) :: error
         type(model_t) :: model
@@ -465,9 +467,9 @@ contains
         character(len=32) :: setting
         integer(hid_t) :: file_id
         real(dp), allocatable :: before(:, :), after(:, :)
-        integer :: jobs, hdferr, length
+        integer :: jobs, hdferr, length, behind, completed_last
         call sample(model, results)
-        model%stages = [model%stages(1), model%stages(1)]
+        model%stages = [model%stages(1), model%stages(1), model%stages(1)]
         call execute_command_line('mkdir -p '//dir)
         call begin_output(out, dir//'behind', model, &
                           run_identity_t(run_id='test', deck_sha256=repeat('0', 64), &
@@ -479,26 +481,37 @@ contains
         watched => out
         reported = [integer ::]
         completed_at_report = [integer ::]
-        call write_stage_behind(out, model, 1, 2, results%stages(1), record_report)
+        ! stages 1 and 2 of 3: written behind (the last stage of a run is written on the
+        ! caller's thread: nothing is left to overlap)
+        call write_stage_behind(out, model, 1, 3, results%stages(1), record_report)
         results%stages(1)%displacement = -results%stages(1)%displacement
         after = results%stages(1)%displacement
-        call write_stage_behind(out, model, 2, 2, results%stages(1), record_report)
+        call write_stage_behind(out, model, 2, 3, results%stages(1), record_report)
+        call wait_stage_writes(write_error)
+        behind = stage_writes_behind() - jobs
+        ! stage 3 of 3, the last: written before the call returns, on this thread
+        call write_stage_behind(out, model, 3, 3, results%stages(1), record_report)
+        completed_last = out%completed
         call wait_stage_writes(write_error)
         call close_results_h5(out%h5, .false.)
         if (allocated(write_error)) then
             call move_alloc(write_error, error)
             return
         end if
-        call check(error, out%completed, 2, 'stages completed')
+        call check(error, completed_last, 3, 'the last stage written when the call returns')
         if (allocated(error)) return
-        call check(error, size(reported) == 2, 'two reports')
+        call check(error, size(reported) == 3, 'three reports')
         if (allocated(error)) return
-        call check(error, all(reported == [1, 2]) .and. all(completed_at_report == [1, 2]), &
+        call check(error, all(reported == [1, 2, 3]) .and. &
+                   all(completed_at_report == [1, 2, 3]), &
                    'each stage reported in order, after its write')
         if (allocated(error)) return
         call get_environment_variable('CFRD_WRITE_BEHIND', setting, length)
         if (trim(setting) /= '0') then
-            call check(error, stage_writes_behind() - jobs, 2, 'writes on the second thread')
+            call check(error, behind, 2, 'stages 1 and 2 written on the second thread')
+            if (allocated(error)) return
+            call check(error, stage_writes_behind() - jobs, 2, &
+                       'the last stage written on the caller''s thread')
             if (allocated(error)) return
         end if
         call h5open_f(hdferr)
@@ -514,15 +527,19 @@ contains
             call check(error, all(reshape(read_doubles(file_id, &
                                                        'stages/stage_0002/displacement', 12), &
                                           [2, 6]) == after), 'stage 2 as handed over')
+        if (.not. allocated(error)) &
+            call check(error, all(reshape(read_doubles(file_id, &
+                                                       'stages/stage_0003/displacement', 12), &
+                                          [2, 6]) == after), 'stage 3 as given')
         call h5fclose_f(file_id, hdferr)
         call h5close_f(hdferr)
         if (allocated(error)) return
         ! the file is closed: the next write fails, and the wait says so
-        call write_stage_behind(out, model, 2, 2, results%stages(1), record_report)
+        call write_stage_behind(out, model, 2, 3, results%stages(1), record_report)
         call wait_stage_writes(write_error)
         call check(error, allocated(write_error), 'a failed write behind returns its error')
         if (allocated(error)) return
-        call check(error, size(reported), 3, 'the failed write still reported')
+        call check(error, size(reported), 4, 'the failed write still reported')
         if (allocated(error)) return
         call check(error, write_error%category, io_error, 'the failed write is an io_error')
     end subroutine test_written_behind

@@ -1,8 +1,9 @@
 !> Each stage's results written behind the analysis (docs/performance.md (ag)): while
 !> stage k+1 is solved, a second thread writes stage k to the result files (add_stage: the
 !> HDF5 group with its deflate, the CSV rows, the legacy listing). write_stage_behind hands
-!> over a copy of the stage and returns; it first waits for the stage handed over before
-!> it, so one write at most runs behind, and the stages reach the files in their order and
+!> over a copy of the stage and returns (the last stage, with nothing left to overlap, is
+!> written before it returns); it first waits for the stage handed over before it, so one
+!> write at most runs behind, and the stages reach the files in their order and
 !> as add_stage writes them on the caller's thread: the same bytes. Each stage is reported
 !> (cfrd's progress line) after its write, so a stage reported is in the files, as before
 !> (a run killed after "stage 3/" keeps stage 3: tools/cli_failure_test.sh).
@@ -74,6 +75,13 @@ contains
         procedure(stage_report_i) :: reported_by
         integer(hid_t), intent(in), optional :: copy_from
         call c_behind_wait()
+        if (stage_number == stages) then
+            ! The last stage: no analysis is left to overlap, so it is written here, without
+            ! the copy (a one-stage deck's run as before the thread).
+            call write_and_report(out, run_model, stage_number, stages, stage, reported_by, &
+                                  copy_from)
+            return
+        end if
         output => out
         model => run_model
         number = stage_number
@@ -107,21 +115,33 @@ contains
         count = int(c_behind_jobs())
     end function stage_writes_behind
 
-    !> The job: add_stage with what was handed over, then its report. HDF5's automatic
-    !> printing of its error stack is a setting of each thread; off here as on the caller's
-    !> (open_results_h5).
+    !> The job: write_and_report with what was handed over.
     subroutine write_handed_over() bind(C)
+        if (copied) then
+            call write_and_report(output, model, number, total, stage_copy, report, source)
+        else
+            call write_and_report(output, model, number, total, stage_copy, report)
+        end if
+    end subroutine write_handed_over
+
+    !> add_stage, unless an earlier write failed (its error is kept in write_error), then
+    !> the stage's report. HDF5's automatic printing of its error stack is a setting of each
+    !> thread; off here as on the run's thread (open_results_h5).
+    subroutine write_and_report(out, run_model, stage_number, stages, stage, reported_by, &
+                                copy_from)
+        type(run_output_t), intent(inout) :: out
+        type(model_t), intent(in) :: run_model
+        integer, intent(in) :: stage_number, stages
+        type(stage_result_t), intent(in) :: stage
+        procedure(stage_report_i) :: reported_by
+        integer(hid_t), intent(in), optional :: copy_from
         type(error_t), allocatable :: error
         integer :: hdferr
         call h5eset_auto_f(0, hdferr)
-        if (allocated(write_error)) then
-            continue
-        else if (copied) then
-            call add_stage(output, model, number, stage_copy, error, source)
-        else
-            call add_stage(output, model, number, stage_copy, error)
+        if (.not. allocated(write_error)) then
+            call add_stage(out, run_model, stage_number, stage, error, copy_from)
+            if (allocated(error)) call move_alloc(error, write_error)
         end if
-        if (allocated(error)) call move_alloc(error, write_error)
-        call report(number, total, stage_copy)
-    end subroutine write_handed_over
+        call reported_by(stage_number, stages, stage)
+    end subroutine write_and_report
 end module cfrd_stage_writer
