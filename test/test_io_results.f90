@@ -103,12 +103,8 @@ contains
         call execute_command_line('mkdir -p '//dir)
         call write_results_h5(dir//'sample.h5', model, results, error)
         if (allocated(error)) return
-        call h5open_f(hdferr)
-        call h5fopen_f(dir//'sample.h5', H5F_ACC_RDONLY_F, file_id, hdferr)
-        if (hdferr < 0) then
-            call fail(error, 'cannot open the written file')
-            return
-        end if
+        call open_written(dir//'sample.h5', 'the written file', file_id, error)
+        if (allocated(error)) return
         call h5dopen_f(file_id, 'mesh/coordinates', dset_id, hdferr)
         call h5dread_f(dset_id, H5T_NATIVE_DOUBLE, x, [2_hsize_t, 6_hsize_t], hdferr)
         call h5dclose_f(dset_id, hdferr)
@@ -173,12 +169,8 @@ contains
         end if
         call close_results_h5(file, .false., error, failure='stopped by the test')
         if (allocated(error)) return
-        call h5open_f(hdferr)
-        call h5fopen_f(dir//'partial.h5', H5F_ACC_RDONLY_F, file_id, hdferr)
-        if (hdferr < 0) then
-            call fail(error, 'cannot open the partial file')
-            return
-        end if
+        call open_written(dir//'partial.h5', 'the partial file', file_id, error)
+        if (allocated(error)) return
         complete = read_int_attr(file_id, '.', 'complete')
         completed = read_int_attr(file_id, '.', 'stages_completed')
         total = read_int_attr(file_id, '.', 'stages_total')
@@ -514,12 +506,8 @@ contains
                        'the last stage written on the caller''s thread')
             if (allocated(error)) return
         end if
-        call h5open_f(hdferr)
-        call h5fopen_f(dir//'behind.h5.part', H5F_ACC_RDONLY_F, file_id, hdferr)
-        if (hdferr < 0) then
-            call fail(error, 'cannot open the file written behind')
-            return
-        end if
+        call open_written(dir//'behind.h5.part', 'the file written behind', file_id, error)
+        if (allocated(error)) return
         call check(error, all(reshape(read_doubles(file_id, 'stages/stage_0001/displacement', &
                                                    12), [2, 6]) == before), &
                    'stage 1 as handed over')
@@ -546,6 +534,18 @@ contains
 
     !> test_written_behind's report (on the writer's thread): the stage and the stages the
     !> output had completed when it came.
+    !> Open `path` for reading (the HDF5 library opened first; the caller closes both); an
+    !> error naming `what` when it cannot be opened.
+    subroutine open_written(path, what, file_id, error)
+        character(len=*), intent(in) :: path, what
+        integer(hid_t), intent(out) :: file_id
+        type(error_t), allocatable, intent(out) :: error
+        integer :: hdferr
+        call h5open_f(hdferr)
+        call h5fopen_f(path, H5F_ACC_RDONLY_F, file_id, hdferr)
+        if (hdferr < 0) call fail(error, 'cannot open '//what)
+    end subroutine open_written
+
     subroutine record_report(number, total, stage)
         integer, intent(in) :: number, total
         type(stage_result_t), intent(in) :: stage
