@@ -299,16 +299,13 @@ contains
     end subroutine check_outputs
 
     !> After each stage: write it to the result files behind the analysis of the next stage
-    !> (cfrd_stage_writer), then print its progress line (report_stage). The error of an
-    !> earlier write, if any, is taken first; after it nothing more is written, and the
-    !> stages are still reported.
+    !> (cfrd_stage_writer), then print its progress line (report_stage). After a failed
+    !> write nothing more is written and the stages are still reported; run_deck takes the
+    !> error when the analysis returns.
     subroutine stream_stage(number, total, stage)
         integer, intent(in) :: number, total
         type(stage_result_t), intent(in) :: stage
-        call wait_stage_writes(current%write_error)
-        if (allocated(current%write_error)) then
-            call report_stage(number, total, stage)
-        else if (copies_stage(number)) then
+        if (copies_stage(number)) then
             ! cfrd --restart: a stored stage, stored as this run stores it: copied
             call write_stage_behind(current%output, current%model, number, total, stage, &
                                     report_stage, current%source%file_id)

@@ -43,8 +43,7 @@ module cfrd_stage_writer
     type(stage_result_t), save :: stage_copy
     integer, save :: number = 0, total = 0
     procedure(stage_report_i), pointer, save :: report => null()
-    integer(hid_t), save :: source = -1
-    logical, save :: copied = .false.
+    integer(hid_t), allocatable, save :: source   ! absent (not allocated): written, not copied
     type(error_t), allocatable, save :: write_error
 
     interface
@@ -87,8 +86,8 @@ contains
         number = stage_number
         total = stages
         report => reported_by
-        copied = present(copy_from)
-        if (copied) source = copy_from
+        if (allocated(source)) deallocate (source)
+        if (present(copy_from)) source = copy_from
         stage_copy = stage
         call c_behind_post(c_funloc(write_handed_over))
     end subroutine write_stage_behind
@@ -117,11 +116,7 @@ contains
 
     !> The job: write_and_report with what was handed over.
     subroutine write_handed_over() bind(C)
-        if (copied) then
-            call write_and_report(output, model, number, total, stage_copy, report, source)
-        else
-            call write_and_report(output, model, number, total, stage_copy, report)
-        end if
+        call write_and_report(output, model, number, total, stage_copy, report, source)
     end subroutine write_handed_over
 
     !> add_stage, unless an earlier write failed (its error is kept in write_error), then
