@@ -44,7 +44,8 @@ contains
                 new_unittest('floating_bar_is_singular', test_floating), &
                 new_unittest('umfpack_forced_same_closed_form', test_umfpack), &
                 new_unittest('unsymmetric_k_goes_to_umfpack', test_unsymmetric), &
-                new_unittest('kept_k_taken_back', test_keep) &
+                new_unittest('kept_k_taken_back', test_keep), &
+                new_unittest('gap_and_load_right_hand_sides', test_right_hand_sides) &
                 ]
     end subroutine collect_solver_schur
 
@@ -351,5 +352,40 @@ contains
         if (allocated(error)) return
         call check_against(error, x, exact(.true., bar_ea), 'taken back')
     end subroutine test_keep
+
+    !> The tie with a gap g (its row's right-hand side d g: u_B0 - u_An = g): B moves by g,
+    !> A and the tie's force as without it; then twice the load: twice the tied solution.
+    !> The same load with another multiplier right-hand side is the case the kept forward
+    !> half serves, another load the case it must not.
+    subroutine test_right_hand_sides(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(sparse_pattern_t) :: pattern
+        type(linear_solver_t) :: solver
+        real(dp), allocatable :: values(:), x(:), b(:), reference(:)
+        real(dp), parameter :: d = 1.0e6_dp, gap = 1.0e-3_dp
+        call two_bars(pattern, values, bar_ea, error)
+        if (allocated(error)) return
+        call rows(pattern, values, .true., .false.)
+        call solver%configure(linear_solver_auto, .false., multipliers=2)
+        call factorise(solver, pattern, values, error)
+        if (allocated(error)) return
+        allocate (x(neq))
+        b = loads()
+        call solver%solve(pattern, values, b, x, error)
+        if (allocated(error)) return
+        call check_against(error, x, exact(.true., bar_ea), 'no gap')
+        if (allocated(error)) return
+        b(neq - 1) = d*gap
+        call solver%solve(pattern, values, b, x, error)
+        if (allocated(error)) return
+        reference = exact(.true., bar_ea)
+        reference(n + 1:nu) = reference(n + 1:nu) + gap
+        call check_against(error, x, reference, 'gap')
+        if (allocated(error)) return
+        b = 2.0_dp*loads()
+        call solver%solve(pattern, values, b, x, error)
+        if (allocated(error)) return
+        call check_against(error, x, 2.0_dp*exact(.true., bar_ea), 'twice the load')
+    end subroutine test_right_hand_sides
 
 end module test_solver_schur

@@ -13,8 +13,8 @@
 !>     R = [ S  C_G ]   (ng + nl, dense)
 !>         [ B_G  E ]
 !>
-!> is factorised by LAPACK's LU. A solve is CHOLMOD's forward half, R's solve, CHOLMOD's
-!> backward half. A new active set (new B, E with the same K) refactorises R alone
+!> is factorised by LAPACK's LU. A solve is CHOLMOD's forward half (kept for the next solve
+!> of the same displacement right-hand side), R's solve, CHOLMOD's backward half. A new active set (new B, E with the same K) refactorises R alone
 !> (`update`): the active-set iterations cost no sparse factorisation. K's factorisation can
 !> be set aside (`keep`) and is taken back when the same K comes again.
 module cfrd_schur
@@ -88,6 +88,9 @@ module cfrd_schur
         real(dp), allocatable :: lu(:)        !! R's LU (ng + nl)^2, column-major
         integer, allocatable :: ipiv(:)
         real(dp) :: u_range(2) = 0.0_dp       !! smallest and largest |U_ii| of R
+        !> The last forward half and its right-hand side: the active-set iterations of one
+        !> solve change the multipliers' right-hand side only (cfrd_active_set)
+        real(dp), allocatable :: b_last(:), z_last(:)
         logical :: factorised = .false.
     contains
         procedure :: analyse
@@ -182,8 +185,8 @@ contains
         is_analysed = self%analysed
     end function is_analysed
 
-    !> Factorise A: K by CHOLMOD (taken back when it is the K set aside by keep, `reused`),
-    !> then R. `positive` is false, and nothing is kept, when CHOLMOD finds K (with G's
+    !> Factorise A: K by CHOLMOD (`reused` when it is the K factorised already or the one set
+    !> aside by keep, taken back), then R. `positive` is false, and nothing is kept, when CHOLMOD finds K (with G's
     !> shift) not positive definite: the caller factorises A by UMFPACK. A singular R is an
     !> error, as UMFPACK's singular matrix is.
     subroutine factorise(self, pattern, values, positive, error, reused)
@@ -195,6 +198,7 @@ contains
         logical, intent(out) :: reused
         real(dp), allocatable :: kvalues(:)
         type(k_factor_t) :: swap
+        logical :: current
         positive = .false.
         reused = .false.
         self%factorised = .false.
@@ -209,11 +213,15 @@ contains
             return
         end if
         kvalues = values(self%k_from)
-        if (self%spare%factorised) reused = all(kvalues == self%spare%kbase)
+        ! the K factorised already (new contact rows only: a regularised retry), or the K
+        ! set aside: R alone
+        current = .false.
+        if (self%k%factorised) current = all(kvalues == self%k%kbase)
+        if (self%spare%factorised .and. .not. current) reused = all(kvalues == self%spare%kbase)
         if (reused) then
             call exchange_factors(self%k, self%spare, swap)
             self%spare%factorised = .false.
-        else
+        else if (.not. current) then
             if (.not. self%k%llt%is_analysed()) call self%k%llt%copy_analysis(self%spare%llt)
             if (.not. self%k%llt%is_analysed()) then
                 call self%k%llt%analyse(self%kpattern, error, last=self%last)
@@ -234,6 +242,8 @@ contains
             self%k%factorised = .true.
         end if
         positive = .true.
+        reused = reused .or. current
+        if (allocated(self%b_last) .and. .not. current) deallocate (self%b_last, self%z_last)
         call self%update(values, error)
     end subroutine factorise
 
@@ -322,9 +332,20 @@ contains
         ng = self%ng
         n0 = nu - ng
         m = ng + self%nl
-        allocate (z(nu), y(m))
-        call self%k%llt%forward(b(1:nu), z, error)
-        if (allocated(error)) return
+        allocate (y(m))
+        if (allocated(self%b_last)) then
+            if (.not. all(b(1:nu) == self%b_last)) deallocate (self%b_last, self%z_last)
+        end if
+        if (.not. allocated(self%b_last)) then
+            allocate (self%z_last(nu))
+            call self%k%llt%forward(b(1:nu), self%z_last, error)
+            if (allocated(error)) then
+                deallocate (self%z_last)
+                return
+            end if
+            self%b_last = b(1:nu)
+        end if
+        z = self%z_last
         ! the right-hand side of G's equations after the others' elimination: L_GG z_G
         y(1:ng) = z(n0 + 1:nu)
         if (ng > 0) call dtrmv('L', 'N', 'N', ng, self%k%g, ng, y, 1)
@@ -368,6 +389,7 @@ contains
         call exchange_factors(self%k, self%spare, swap)
         self%k%factorised = .false.
         self%factorised = .false.
+        if (allocated(self%b_last)) deallocate (self%b_last, self%z_last)
     end subroutine keep
 
     !> Exchange two factorisations of K (their CHOLMOD objects too), freeing neither.
@@ -405,6 +427,7 @@ contains
         if (allocated(self%last)) deallocate (self%last)
         if (allocated(self%r_from)) deallocate (self%r_from, self%r_to)
         if (allocated(self%lu)) deallocate (self%lu, self%ipiv)
+        if (allocated(self%b_last)) deallocate (self%b_last, self%z_last)
         if (allocated(self%kpattern%colptr)) deallocate (self%kpattern%colptr)
         if (allocated(self%kpattern%rowind)) deallocate (self%kpattern%rowind)
         self%nu = 0
