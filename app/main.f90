@@ -614,10 +614,10 @@ contains
             '                node displacements and element stresses and stress levels', &
             '  --linear-solver auto|cholmod|umfpack', &
             '                the sparse solver: auto (default) CHOLMOD for the symmetric', &
-            '                positive definite matrices, UMFPACK for the rest and for', &
-            '                those CHOLMOD declines; cholmod: an error where it declines', &
-            '                a symmetric one; umfpack: UMFPACK for all (contact systems:', &
-            '                always UMFPACK)', &
+            '                positive definite matrices (with contact: for K, through its', &
+            '                Schur complement on the contact nodes), UMFPACK for the rest', &
+            '                and for those CHOLMOD declines; cholmod: an error where it', &
+            '                declines a symmetric one; umfpack: UMFPACK for all', &
             '  --version     print the version', &
             '  --help        print this help', &
             '', &

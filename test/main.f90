@@ -7,6 +7,7 @@ program cfrd_tests
     use test_io_card_schema, only: collect_io_card_schema
     use test_solver_sparse, only: collect_solver_sparse
     use test_solver_cholmod, only: collect_solver_cholmod
+    use test_solver_schur, only: collect_solver_schur
     use test_solver_krylov, only: collect_solver_krylov
     use test_elements_quad4, only: collect_elements_quad4
     use test_elements_geometry, only: collect_elements_geometry
@@ -53,6 +54,10 @@ program cfrd_tests
     if (wanted('solver_cholmod')) then
         call collect_solver_cholmod(tests)
         call run_suite('solver_cholmod', tests, only_test, npass, nfail)
+    end if
+    if (wanted('solver_schur')) then
+        call collect_solver_schur(tests)
+        call run_suite('solver_schur', tests, only_test, npass, nfail)
     end if
     if (wanted('solver_krylov')) then
         call collect_solver_krylov(tests)

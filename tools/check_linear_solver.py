@@ -13,7 +13,12 @@ Checks, each printing PASS or FAIL:
     none declined; that of umfpack none, and as many factorisations as auto (both take back
     the factorisation at a rejected increment's start for its retry);
   - the same deck under `--linear-solver cholmod` runs (exit 0);
-  - the x1 contact deck (saddle-point systems) makes no CHOLMOD factorisation under auto;
+  - the x1 contact deck (saddle-point systems, midpoint: K symmetric positive definite) goes
+    to CHOLMOD through K's Schur complement under auto (docs/theory.md section 6, "Contact
+    systems by K's Schur complement": every numeric factorisation CHOLMOD's) and agrees
+    with `--linear-solver umfpack` (reference: UMFPACK's LU of the whole saddle-point
+    matrices, another library and another elimination) as the bonded deck does; under
+    umfpack no CHOLMOD factorisation;
   - `--linear-solver` with a wrong word or without one: exit 2, the message names the words.
 """
 
@@ -89,10 +94,27 @@ def main():
           f"{counts['umfpack'][1]} of {counts['umfpack'][0]} by CHOLMOD; {counts['umfpack'][0]} "
           f"factorisations against auto's {total}, both taking back the start factorisation "
           f"of the {rejections} retries")
-    done, stem = run(cfrd, work, "contact", CONTACT)
-    total, cholesky, _ = solver_counts(stem + ".out") if done.returncode == 0 else (0, -1, 0)
-    check("contact-goes-to-umfpack", done.returncode == 0 and cholesky == 0,
-          f"exit {done.returncode}, {cholesky} of {total} factorisations by CHOLMOD")
+    contact = {}
+    for choice in ("auto", "umfpack"):
+        done, contact[choice] = run(cfrd, work, "contact-" + choice, CONTACT,
+                                    "--linear-solver", choice)
+        counts[choice] = (solver_counts(contact[choice] + ".out") if done.returncode == 0
+                          else (0, -1, 0))
+        check(f"contact-runs-{choice}", done.returncode == 0, f"exit {done.returncode}" +
+              (f" {done.stderr.strip()[:200]}" if done.returncode else ""))
+    total, cholesky, declined = counts["auto"]
+    check("contact-goes-to-cholmod", total and cholesky == total and declined == 0,
+          f"{cholesky} of {total} factorisations by CHOLMOD (K's Schur complement), "
+          f"{declined} declined")
+    check("contact-umfpack-forced", counts["umfpack"][0] and counts["umfpack"][1] == 0,
+          f"{counts['umfpack'][1]} of {counts['umfpack'][0]} by CHOLMOD")
+    status, text = runner.tool("compare.py", contact["umfpack"] + ".h5",
+                               contact["auto"] + ".h5", "--rtol", "0", "--atol", "1e-8max",
+                               "--tol", f"stress_level={STRESS_LEVEL}", "--tol",
+                               f"residual={RESIDUAL}", "--quantities",
+                               ",".join(q for q in QUANTITIES if q != "counts"))
+    last = [ln for ln in text.splitlines() if ln.strip()][-1:] or ["(no output)"]
+    check("contact-schur-agrees-with-umfpack", status == 0, last[0])
     for name, options in (("wrong-word", ["--linear-solver", "lu"]),
                           ("missing-word", ["--linear-solver"])):
         done = subprocess.run([cfrd, *options] if name == "missing-word" else

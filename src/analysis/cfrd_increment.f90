@@ -149,9 +149,9 @@ contains
         ! Predictor with the tangent at the start of the increment; a rejected midpoint
         ! increment (error control) or a Newton increment cut back, redone from the same
         ! state, takes back the factorisation of that tangent kept from its first attempt:
-        ! CHOLMOD's by restore (`reuse`, without contact), UMFPACK's (the contact systems)
-        ! in factorise_at, when the matrix assembled again is the same, bit for bit
-        ! (linear_solver_t%keep).
+        ! CHOLMOD's by restore (`reuse`, without contact); with contact in factorise_at,
+        ! K's (cfrd_schur) when K assembled again is the same, UMFPACK's when the whole
+        ! matrix is, bit for bit (linear_solver_t%keep).
         retried = model%solver == solver_newton .or. &
                   (model%solver == solver_midpoint .and. model%error_tolerance > 0.0_dp)
         reuse = .not. state%has_contact .and. retried

@@ -76,7 +76,8 @@ contains
         integer :: c, g, k, nelem, pos
         call system%solver%release()
         call system%solver%configure(model%linear_solver, .not. has_contact, &
-                                     all_linear(model, active))
+                                     all_linear(model, active), &
+                                     multipliers=merge(2*contact%nc, 0, has_contact))
         call number_equations(model, library, active, system%dofmap)
         if (has_contact) then
             nelem = model%mesh%nelem

@@ -59,6 +59,10 @@ module cfrd_cholmod
         procedure :: is_analysed
         procedure :: factorise
         procedure :: solve
+        procedure :: permutation
+        procedure :: tail
+        procedure :: forward
+        procedure :: backward
         procedure :: rcond
         procedure :: factor_nonzeros
         procedure :: release
@@ -86,6 +90,45 @@ module cfrd_cholmod
             type(c_ptr), value :: handle
             real(c_double), intent(in) :: ax(*)
         end function cfrd_cholmod_factorise
+
+        integer(c_int) function cfrd_cholmod_analyse_last(handle, n, ap, ai, last) &
+            bind(C, name='cfrd_cholmod_analyse_last')
+            import :: c_int, c_ptr
+            type(c_ptr), value :: handle
+            integer(c_int), value :: n
+            integer(c_int), intent(in) :: ap(*), ai(*), last(*)
+        end function cfrd_cholmod_analyse_last
+
+        integer(c_int) function cfrd_cholmod_permutation(handle, perm) &
+            bind(C, name='cfrd_cholmod_permutation')
+            import :: c_int, c_ptr
+            type(c_ptr), value :: handle
+            integer(c_int), intent(out) :: perm(*)
+        end function cfrd_cholmod_permutation
+
+        integer(c_int) function cfrd_cholmod_tail(handle, tail, g, pivots) &
+            bind(C, name='cfrd_cholmod_tail')
+            import :: c_int, c_double, c_ptr
+            type(c_ptr), value :: handle
+            integer(c_int), value :: tail
+            real(c_double), intent(out) :: g(*), pivots(2)
+        end function cfrd_cholmod_tail
+
+        integer(c_int) function cfrd_cholmod_forward(handle, b, z) &
+            bind(C, name='cfrd_cholmod_forward')
+            import :: c_int, c_double, c_ptr
+            type(c_ptr), value :: handle
+            real(c_double), intent(in) :: b(*)
+            real(c_double), intent(out) :: z(*)
+        end function cfrd_cholmod_forward
+
+        integer(c_int) function cfrd_cholmod_backward(handle, z, x) &
+            bind(C, name='cfrd_cholmod_backward')
+            import :: c_int, c_double, c_ptr
+            type(c_ptr), value :: handle
+            real(c_double), intent(in) :: z(*)
+            real(c_double), intent(out) :: x(*)
+        end function cfrd_cholmod_backward
 
         real(c_double) function cfrd_cholmod_rcond(handle) bind(C, name='cfrd_cholmod_rcond')
             import :: c_double, c_ptr
@@ -175,23 +218,28 @@ contains
     !> Whether the matrix is symmetric to symmetry_tolerance with a positive diagonal (a
     !> necessary condition of positive definiteness; NaN fails). `mirror` is
     !> mirror_positions(pattern).
-    pure logical function symmetric_values(pattern, values, mirror) result(symmetric)
+    pure logical function symmetric_values(pattern, values, mirror, leading) result(symmetric)
         type(sparse_pattern_t), intent(in) :: pattern
         real(dp), intent(in) :: values(:)
         integer, intent(in) :: mirror(:)
+        !> only the leading block of this order (the K of a saddle-point system, cfrd_schur)
+        integer, intent(in), optional :: leading
         real(dp), allocatable :: diagonal(:)
-        integer :: i, j, p
+        integer :: i, j, p, n
         symmetric = .false.
-        allocate (diagonal(pattern%n), source=0.0_dp)
-        do j = 1, pattern%n
+        n = pattern%n
+        if (present(leading)) n = min(leading, pattern%n)
+        allocate (diagonal(n), source=0.0_dp)
+        do j = 1, n
             do p = pattern%colptr(j) + 1, pattern%colptr(j + 1)
                 if (pattern%rowind(p) + 1 == j) diagonal(j) = values(p)
             end do
         end do
         if (.not. all(diagonal > 0.0_dp)) return
-        do j = 1, pattern%n
+        do j = 1, n
             do p = pattern%colptr(j) + 1, pattern%colptr(j + 1)
                 i = pattern%rowind(p) + 1
+                if (i > n) exit
                 if (i <= j) cycle
                 if (mirror(p) == 0) then
                     if (.not. (abs(values(p)) <= symmetry_tolerance* &
@@ -203,9 +251,10 @@ contains
             end do
         end do
         ! an upper entry whose transpose is not stored
-        do j = 1, pattern%n
+        do j = 1, n
             do p = pattern%colptr(j) + 1, pattern%colptr(j + 1)
                 i = pattern%rowind(p) + 1
+                if (i > n) exit
                 if (i >= j .or. mirror(p) /= 0) cycle
                 if (.not. (abs(values(p)) <= symmetry_tolerance*sqrt(diagonal(i)*diagonal(j)))) &
                     return
@@ -215,11 +264,14 @@ contains
     end function symmetric_values
 
     !> Symbolic analysis (ordering, supernodes) of the upper triangle of the pattern;
-    !> replaces an earlier one.
-    subroutine analyse(self, pattern, error)
+    !> replaces an earlier one. With `last`, the columns where it is true are ordered after
+    !> all the others (constrained minimum degree, CAMD; cfrd_schur), whatever the ordering
+    !> set: the factor's last columns are then theirs (tail).
+    subroutine analyse(self, pattern, error, last)
         class(cholmod_t), intent(inout) :: self
         type(sparse_pattern_t), intent(in) :: pattern
         type(error_t), allocatable, intent(out) :: error
+        logical, intent(in), optional :: last(:)
         integer :: j, p, k
         integer(c_int) :: status
         call self%release()
@@ -248,8 +300,14 @@ contains
             end do
             self%up_colptr(j + 1) = k
         end do
-        status = cfrd_cholmod_analyse(self%handle, int(pattern%n, c_int), self%up_colptr, &
-                                      self%up_rowind)
+        if (present(last)) then
+            status = cfrd_cholmod_analyse_last(self%handle, int(pattern%n, c_int), &
+                                               self%up_colptr, self%up_rowind, &
+                                               merge(1_c_int, 0_c_int, last(1:pattern%n)))
+        else
+            status = cfrd_cholmod_analyse(self%handle, int(pattern%n, c_int), self%up_colptr, &
+                                          self%up_rowind)
+        end if
         if (status /= cholmod_ok) then
             call fatal_error(error, 'CHOLMOD: symbolic analysis failed (status '// &
                              status_text(status)//')', numerical_error)
@@ -341,6 +399,81 @@ contains
         if (status /= cholmod_ok) call fatal_error(error, 'CHOLMOD: solve failed (status '// &
                                                    status_text(status)//')', numerical_error)
     end subroutine solve
+
+    !> The analysis's permutation: perm(k) is the equation (1-based) in the factor's
+    !> position k.
+    subroutine permutation(self, perm, error)
+        class(cholmod_t), intent(in) :: self
+        integer, allocatable, intent(out) :: perm(:)
+        type(error_t), allocatable, intent(out) :: error
+        integer(c_int), allocatable :: p0(:)
+        if (.not. self%analysed) then
+            call fatal_error(error, 'internal: CHOLMOD permutation without an analysis', &
+                             numerical_error)
+            return
+        end if
+        allocate (p0(self%n))
+        if (cfrd_cholmod_permutation(self%handle, p0) /= cholmod_ok) then
+            call fatal_error(error, 'internal: CHOLMOD permutation failed', numerical_error)
+            return
+        end if
+        perm = p0 + 1
+    end subroutine permutation
+
+    !> The factor's last `ntail` columns (all of whose rows are among them) as a dense lower
+    !> triangle g(ntail, ntail), and the smallest and largest L_jj^2 of the columns before
+    !> them (`pivots`; 0 when there are none).
+    subroutine tail(self, ntail, g, pivots, error)
+        class(cholmod_t), intent(in) :: self
+        integer, intent(in) :: ntail
+        real(dp), intent(out) :: g(:, :), pivots(2)
+        type(error_t), allocatable, intent(out) :: error
+        if (.not. self%factorised .or. size(g, 1) /= ntail .or. size(g, 2) /= ntail) then
+            call fatal_error(error, 'internal: CHOLMOD tail without a factorisation', &
+                             numerical_error)
+            return
+        end if
+        if (cfrd_cholmod_tail(self%handle, int(ntail, c_int), g, pivots) /= cholmod_ok) &
+            call fatal_error(error, 'internal: CHOLMOD tail of a factor that is not '// &
+                             'supernodal L L^T', numerical_error)
+    end subroutine tail
+
+    !> The first half of a solve: z = L^-1 P b, z in the factor's order.
+    subroutine forward(self, b, z, error)
+        class(cholmod_t), intent(inout) :: self
+        real(dp), intent(in) :: b(:)
+        real(dp), intent(out) :: z(:)
+        type(error_t), allocatable, intent(out) :: error
+        call half_check(self, size(b), size(z), error)
+        if (allocated(error)) return
+        if (cfrd_cholmod_forward(self%handle, b, z) /= cholmod_ok) &
+            call fatal_error(error, 'CHOLMOD: forward solve failed', numerical_error)
+    end subroutine forward
+
+    !> The second half of a solve: x = P^T L^-T z.
+    subroutine backward(self, z, x, error)
+        class(cholmod_t), intent(inout) :: self
+        real(dp), intent(in) :: z(:)
+        real(dp), intent(out) :: x(:)
+        type(error_t), allocatable, intent(out) :: error
+        call half_check(self, size(z), size(x), error)
+        if (allocated(error)) return
+        if (cfrd_cholmod_backward(self%handle, z, x) /= cholmod_ok) &
+            call fatal_error(error, 'CHOLMOD: backward solve failed', numerical_error)
+    end subroutine backward
+
+    subroutine half_check(self, n_in, n_out, error)
+        type(cholmod_t), intent(in) :: self
+        integer, intent(in) :: n_in, n_out
+        type(error_t), allocatable, intent(out) :: error
+        if (.not. self%factorised) then
+            call fatal_error(error, 'internal: CHOLMOD solve called without a factorisation', &
+                             numerical_error)
+        else if (n_in < self%n .or. n_out < self%n) then
+            call fatal_error(error, 'internal: vector shorter than the CHOLMOD matrix', &
+                             numerical_error)
+        end if
+    end subroutine half_check
 
     !> CHOLMOD's reciprocal condition estimate (min L_jj / max L_jj)^2, 0 before a
     !> factorisation.

@@ -13,12 +13,14 @@
 #include <string.h>
 
 #include <suitesparse/cholmod.h>
+#include <suitesparse/cholmod_camd.h>
 
 typedef struct {
     cholmod_common common;
     cholmod_sparse *a;   /* the upper triangle, values of the last factorisation */
     cholmod_factor *l;   /* symbolic, then numeric (supernodal LL^T) */
     cholmod_dense *x, *y, *e;   /* cholmod_solve2's reused workspace */
+    cholmod_dense *b;           /* the half solves' right-hand side (cfrd_cholmod_forward) */
 } cfrd_cholmod_t;
 
 void cfrd_cholmod_free(void *handle);
@@ -47,6 +49,7 @@ static void free_factor(cfrd_cholmod_t *h)
     if (h->x) cholmod_free_dense(&h->x, &h->common);
     if (h->y) cholmod_free_dense(&h->y, &h->common);
     if (h->e) cholmod_free_dense(&h->e, &h->common);
+    if (h->b) cholmod_free_dense(&h->b, &h->common);
 }
 
 /* Symbolic analysis (ordering, supernodes) of the pattern ap, ai (n columns); replaces an
@@ -66,6 +69,140 @@ int cfrd_cholmod_analyse(void *handle, int n, const int *ap, const int *ai)
     h->l = cholmod_analyze(h->a, &h->common);
     if (h->l == NULL) return h->common.status < 0 ? h->common.status : CHOLMOD_INVALID;
     return h->common.status < 0 ? h->common.status : CHOLMOD_OK;
+}
+
+/* Symbolic analysis as cfrd_cholmod_analyse, with the columns where last[j] != 0 ordered
+ * after all the others (the contact systems' coupled dofs, cfrd_schur.f90): CAMD's
+ * constrained minimum degree orders each set, and the analysis keeps that order (no
+ * postordering, which could interleave the last set with the rest). */
+int cfrd_cholmod_analyse_last(void *handle, int n, const int *ap, const int *ai,
+                              const int *last)
+{
+    cfrd_cholmod_t *h = handle;
+    int nnz = ap[n], *cmember, *perm, ok;
+    free_factor(h);
+    h->common.status = CHOLMOD_OK;
+    h->a = cholmod_allocate_sparse((size_t)n, (size_t)n, (size_t)nnz, 1, 1, 1, CHOLMOD_REAL,
+                                   &h->common);
+    if (h->a == NULL) return h->common.status < 0 ? h->common.status : CHOLMOD_OUT_OF_MEMORY;
+    memcpy(h->a->p, ap, sizeof(int) * (size_t)(n + 1));
+    memcpy(h->a->i, ai, sizeof(int) * (size_t)nnz);
+    memset(h->a->x, 0, sizeof(double) * (size_t)nnz);
+    cmember = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1));
+    perm = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1));
+    if (cmember == NULL || perm == NULL) {
+        free(cmember);
+        free(perm);
+        return CHOLMOD_OUT_OF_MEMORY;
+    }
+    for (int j = 0; j < n; j++) cmember[j] = last[j] != 0;
+    ok = cholmod_camd(h->a, NULL, 0, cmember, perm, &h->common);
+    if (ok) {
+        h->common.nmethods = 1;
+        h->common.method[0].ordering = CHOLMOD_GIVEN;
+        h->common.postorder = 0;
+        h->l = cholmod_analyze_p(h->a, perm, NULL, 0, &h->common);
+    }
+    free(cmember);
+    free(perm);
+    if (!ok || h->l == NULL) return h->common.status < 0 ? h->common.status : CHOLMOD_INVALID;
+    return h->common.status < 0 ? h->common.status : CHOLMOD_OK;
+}
+
+/* The factor's permutation (perm[k] = the column of A in position k, 0-based). Returns
+ * -100 without an analysis. */
+int cfrd_cholmod_permutation(void *handle, int *perm)
+{
+    cfrd_cholmod_t *h = handle;
+    if (h->l == NULL) return -100;
+    memcpy(perm, h->l->Perm, sizeof(int) * h->l->n);
+    return CHOLMOD_OK;
+}
+
+/* The last `tail` columns of the supernodal factor L (positions n - tail to n - 1, whose
+ * rows are all in the tail too) as a dense lower triangle, column-major, leading dimension
+ * tail; and the smallest and largest L_jj^2 of the other columns (0 and 0 when there are
+ * none). Returns -100 without a numeric supernodal LL^T factor. */
+int cfrd_cholmod_tail(void *handle, int tail, double *g, double *pivots)
+{
+    cfrd_cholmod_t *h = handle;
+    cholmod_factor *l = h->l;
+    int n, n0, *super, *lpi, *lpx, *ls;
+    double *lx, lo = 0.0, hi = 0.0;
+    if (l == NULL || !l->is_super || !l->is_ll || l->xtype != CHOLMOD_REAL) return -100;
+    n = (int)l->n;
+    n0 = n - tail;
+    super = l->super;
+    lpi = l->pi;
+    lpx = l->px;
+    ls = l->s;
+    lx = l->x;
+    memset(g, 0, sizeof(double) * (size_t)tail * (size_t)tail);
+    for (size_t s = 0; s < l->nsuper; s++) {
+        int k1 = super[s], k2 = super[s + 1], nsrow = lpi[s + 1] - lpi[s];
+        for (int k = k1; k < k2; k++) {
+            const double *column = lx + lpx[s] + (size_t)(k - k1) * (size_t)nsrow;
+            if (k < n0) {
+                double d = column[k - k1] * column[k - k1];
+                if (k == 0 || d < lo) lo = d;
+                if (k == 0 || d > hi) hi = d;
+                continue;
+            }
+            for (int r = k - k1; r < nsrow; r++)
+                g[(size_t)(k - n0) * (size_t)tail + (size_t)(ls[lpi[s] + r] - n0)] = column[r];
+        }
+    }
+    pivots[0] = lo;
+    pivots[1] = hi;
+    return CHOLMOD_OK;
+}
+
+/* z = L^-1 P b (forward), or x = P^T L^-T z (backward): the two halves of a solve, in the
+ * factor's own order between them. Returns CHOLMOD's status. */
+static int half_solve(cfrd_cholmod_t *h, int backward, const double *in, double *out)
+{
+    cholmod_dense rhs;
+    const int *perm;
+    size_t n;
+    if (h->l == NULL || !h->l->is_ll) return -100;
+    n = h->l->n;
+    perm = h->l->Perm;
+    if (h->b == NULL || h->b->nrow != n) {
+        if (h->b) cholmod_free_dense(&h->b, &h->common);
+        h->b = cholmod_allocate_dense(n, 1, n, CHOLMOD_REAL, &h->common);
+        if (h->b == NULL) return CHOLMOD_OUT_OF_MEMORY;
+    }
+    memset(&rhs, 0, sizeof(rhs));
+    rhs.nrow = n;
+    rhs.ncol = 1;
+    rhs.nzmax = n;
+    rhs.d = n;
+    rhs.x = h->b->x;
+    rhs.xtype = CHOLMOD_REAL;
+    rhs.dtype = CHOLMOD_DOUBLE;
+    if (!backward)
+        for (size_t k = 0; k < n; k++) ((double *)rhs.x)[k] = in[perm[k]];
+    else
+        memcpy(rhs.x, in, sizeof(double) * n);
+    h->common.status = CHOLMOD_OK;
+    if (!cholmod_solve2(backward ? CHOLMOD_Lt : CHOLMOD_L, h->l, &rhs, NULL, &h->x, NULL,
+                        &h->y, &h->e, &h->common))
+        return h->common.status < 0 ? h->common.status : CHOLMOD_INVALID;
+    if (!backward)
+        memcpy(out, h->x->x, sizeof(double) * n);
+    else
+        for (size_t k = 0; k < n; k++) out[perm[k]] = ((double *)h->x->x)[k];
+    return CHOLMOD_OK;
+}
+
+int cfrd_cholmod_forward(void *handle, const double *b, double *z)
+{
+    return half_solve(handle, 0, b, z);
+}
+
+int cfrd_cholmod_backward(void *handle, const double *z, double *x)
+{
+    return half_solve(handle, 1, z, x);
 }
 
 /* A new handle holding a copy of `from`'s analysis (its pattern and its factor, which a

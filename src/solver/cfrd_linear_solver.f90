@@ -3,7 +3,9 @@
 !> diagonal, UMFPACK's LU (cfrd_umfpack) for every other one and for every matrix CHOLMOD
 !> declines (not positive definite, or its condition estimate below rcond_min): the same
 !> matrix is then factorised by UMFPACK, no failure. The systems with contact multipliers
-!> (saddle points, not positive definite) always go to UMFPACK, with its row updates.
+!> (saddle points, not positive definite) go to cfrd_schur when their K is symmetric with a
+!> positive diagonal (CHOLMOD for K, a dense LU of the reduced system, which alone is
+!> factorised again for a new active set), else to UMFPACK with its row updates.
 !> `--linear-solver umfpack` forces UMFPACK everywhere (the solver before issue 21),
 !> `--linear-solver cholmod` makes a symmetric system that CHOLMOD cannot factorise an
 !> error instead of a fallback [choice] (docs/theory.md, "The linear solver").
@@ -13,6 +15,7 @@ module cfrd_linear_solver
     use cfrd_sparse, only: sparse_pattern_t
     use cfrd_umfpack, only: umfpack_t
     use cfrd_cholmod, only: cholmod_t, mirror_positions, symmetric_values, ordering_for
+    use cfrd_schur, only: schur_t
     implicit none
     private
 
@@ -44,6 +47,13 @@ module cfrd_linear_solver
         !> midpoint predictor's, at the start state of an increment that may be rejected
         type(cholmod_t) :: spare
         logical :: spare_factorised = .false.
+        !> Saddle-point systems (contact): the last `multipliers` equations are multipliers;
+        !> with K symmetric with a positive diagonal they go to CHOLMOD through K's Schur
+        !> complement on the coupled equations (cfrd_schur), else to UMFPACK.
+        integer :: multipliers = 0
+        type(schur_t) :: sc
+        logical :: use_schur = .false.       !! the current matrix goes to cfrd_schur
+        logical :: schur_factorised = .false.
     contains
         procedure :: configure
         procedure :: set_row_scaling
@@ -69,15 +79,20 @@ contains
     !> The choice (linear_solver_auto, _cholmod, _umfpack), whether the system's
     !> matrices may be positive definite at all (false with contact multipliers), and
     !> whether its tangent is constant (factorised once per pattern; default false).
-    subroutine configure(self, choice, may_be_spd, constant_tangent)
+    !> `multipliers`: the number of trailing multiplier equations of a saddle-point system
+    !> (0, the default: none).
+    subroutine configure(self, choice, may_be_spd, constant_tangent, multipliers)
         class(linear_solver_t), intent(inout) :: self
         integer, intent(in) :: choice
         logical, intent(in) :: may_be_spd
         logical, intent(in), optional :: constant_tangent
+        integer, intent(in), optional :: multipliers
         self%choice = choice
         self%may_be_spd = may_be_spd
         self%constant_tangent = .false.
         if (present(constant_tangent)) self%constant_tangent = constant_tangent
+        self%multipliers = 0
+        if (present(multipliers)) self%multipliers = multipliers
     end subroutine configure
 
     !> UMFPACK's row scaling (umfpack_t%set_row_scaling).
@@ -103,20 +118,28 @@ contains
     end subroutine set_metis
 
     !> Which library factorises `values` next: CHOLMOD when the choice allows it and the
-    !> matrix is symmetric with a positive diagonal (symmetric_values), else UMFPACK.
-    !> Under --linear-solver cholmod a system without contact whose matrix is not so is an
-    !> error.
+    !> matrix is symmetric with a positive diagonal (symmetric_values), else UMFPACK; a
+    !> saddle-point system goes to cfrd_schur when its K is so (a Newton tangent is not:
+    !> UMFPACK). Under --linear-solver cholmod a system without contact whose matrix is not
+    !> so is an error.
     subroutine choose(self, pattern, values, error)
         class(linear_solver_t), intent(inout) :: self
         type(sparse_pattern_t), intent(in) :: pattern
         real(dp), intent(in) :: values(:)
         type(error_t), allocatable, intent(out) :: error
         self%use_llt = .false.
-        if (self%choice == linear_solver_umfpack .or. .not. self%may_be_spd) return
+        self%use_schur = .false.
+        if (self%choice == linear_solver_umfpack) return
+        if (.not. self%may_be_spd .and. self%multipliers == 0) return
         if (allocated(self%mirror)) then
             if (size(self%mirror) /= pattern%nnz) deallocate (self%mirror)
         end if
         if (.not. allocated(self%mirror)) self%mirror = mirror_positions(pattern)
+        if (self%multipliers > 0) then
+            self%use_schur = symmetric_values(pattern, values, self%mirror, &
+                                              pattern%n - self%multipliers)
+            return
+        end if
         self%use_llt = symmetric_values(pattern, values, self%mirror)
         if (.not. self%use_llt .and. self%choice == linear_solver_cholmod) &
             call fatal_error(error, 'the stiffness matrix is not symmetric with a positive '// &
@@ -127,7 +150,9 @@ contains
     !> The chosen library's symbolic analysis of the pattern exists.
     logical function is_analysed(self)
         class(linear_solver_t), intent(in) :: self
-        if (self%use_llt) then
+        if (self%use_schur) then
+            is_analysed = self%sc%is_analysed()
+        else if (self%use_llt) then
             is_analysed = self%llt%is_analysed()
         else
             is_analysed = self%lu_analysed
@@ -140,7 +165,9 @@ contains
         type(sparse_pattern_t), intent(in) :: pattern
         real(dp), intent(in) :: values(:)
         type(error_t), allocatable, intent(out) :: error
-        if (self%use_llt) then
+        if (self%use_schur) then
+            call self%sc%analyse(pattern, self%multipliers, error)
+        else if (self%use_llt) then
             call self%llt%set_ordering(ordering_for(pattern%n, self%constant_tangent))
             call self%llt%analyse(pattern, error)
         else
@@ -160,10 +187,28 @@ contains
         type(error_t), allocatable, intent(out) :: error
         !> UMFPACK took back the factorisation set aside by keep: `values` is its matrix
         logical, intent(out), optional :: reused
-        logical :: positive
+        logical :: positive, again
         declined = .false.
         if (present(reused)) reused = .false.
         self%llt_factorised = .false.
+        self%schur_factorised = .false.
+        if (self%use_schur) then
+            call self%sc%factorise(pattern, values, positive, error, again)
+            if (present(reused)) reused = again
+            if (allocated(error)) return
+            self%schur_factorised = positive
+            if (positive) return
+            if (self%choice == linear_solver_cholmod) then
+                call fatal_error(error, 'CHOLMOD: the stiffness matrix of the contact system '// &
+                                 'is not positive definite on the coupled equations '// &
+                                 'shifted, or badly conditioned (--linear-solver cholmod; '// &
+                                 'auto would use UMFPACK)', numerical_error)
+                return
+            end if
+            declined = .true.
+            self%use_schur = .false.
+            return
+        end if
         if (self%use_llt) then
             call self%llt%factorise(pattern, values, positive, error)
             if (allocated(error)) return
@@ -193,8 +238,17 @@ contains
         logical, intent(out) :: done
         type(error_t), allocatable, intent(out) :: error
         logical, intent(out), optional :: refused
+        type(error_t), allocatable :: singular
         done = .false.
         if (present(refused)) refused = .false.
+        if (self%schur_factorised) then
+            ! the same K, new contact rows: R again (a singular R is factorise's to report)
+            if (.not. self%sc%same_k(values)) return
+            call self%sc%update(values, singular)
+            done = .not. allocated(singular)
+            self%schur_factorised = done
+            return
+        end if
         if (self%llt_factorised) return
         call self%lu%update_rows(pattern, values, done, error, refused)
     end subroutine update_rows
@@ -206,7 +260,9 @@ contains
         real(dp), intent(in) :: values(:), b(:)
         real(dp), intent(out) :: x(:)
         type(error_t), allocatable, intent(out) :: error
-        if (self%llt_factorised) then
+        if (self%schur_factorised) then
+            call self%sc%solve(b, x, error)
+        else if (self%llt_factorised) then
             call self%llt%solve(b, x, error)
         else
             call self%lu%solve(pattern, values, b, x, error)
@@ -216,7 +272,9 @@ contains
     !> The reciprocal condition estimate of the kept factorisation's library.
     real(dp) function rcond(self)
         class(linear_solver_t), intent(in) :: self
-        if (self%llt_factorised) then
+        if (self%schur_factorised) then
+            rcond = self%sc%rcond()
+        else if (self%llt_factorised) then
             rcond = self%llt%rcond()
         else
             rcond = self%lu%rcond()
@@ -226,7 +284,9 @@ contains
     !> Nonzeros of the kept factorisation: L + U (UMFPACK), L (CHOLMOD).
     integer function factor_nonzeros(self)
         class(linear_solver_t), intent(in) :: self
-        if (self%llt_factorised) then
+        if (self%schur_factorised) then
+            factor_nonzeros = self%sc%factor_nonzeros()
+        else if (self%llt_factorised) then
             factor_nonzeros = self%llt%factor_nonzeros()
         else
             factor_nonzeros = self%lu%factor_nonzeros()
@@ -236,13 +296,14 @@ contains
     logical function is_updated(self)
         class(linear_solver_t), intent(in) :: self
         is_updated = .false.
-        if (.not. self%llt_factorised) is_updated = self%lu%is_updated()
+        if (.not. (self%llt_factorised .or. self%schur_factorised)) &
+            is_updated = self%lu%is_updated()
     end function is_updated
 
-    !> The kept factorisation is CHOLMOD's.
+    !> The kept factorisation is CHOLMOD's (cfrd_schur's included).
     logical function is_cholesky(self)
         class(linear_solver_t), intent(in) :: self
-        is_cholesky = self%llt_factorised
+        is_cholesky = self%llt_factorised .or. self%schur_factorised
     end function is_cholesky
 
     !> Set the current factorisation aside when it is CHOLMOD's (`kept`), so that restore
@@ -256,6 +317,12 @@ contains
         class(linear_solver_t), intent(inout) :: self
         logical, intent(out) :: kept
         kept = self%llt_factorised
+        if (self%schur_factorised) then
+            ! taken back by factorise when the same K comes again (cfrd_schur's keep)
+            call self%sc%keep()
+            self%schur_factorised = .false.
+            return
+        end if
         if (.not. kept) then
             call self%lu%set_aside()
             return
@@ -282,7 +349,10 @@ contains
         call self%lu%release()
         call self%llt%release()
         call self%spare%release()
+        call self%sc%release()
         self%spare_factorised = .false.
+        self%use_schur = .false.
+        self%schur_factorised = .false.
         if (allocated(self%mirror)) deallocate (self%mirror)
         self%use_llt = .false.
         self%llt_factorised = .false.
