@@ -22,6 +22,7 @@ module test_solver_schur
     use cfrd_sparse, only: sparse_pattern_t, build_pattern, assemble_element
     use cfrd_linear_solver, only: linear_solver_t, linear_solver_auto, linear_solver_umfpack, &
                                   linear_solver_cholmod
+    use cfrd_schur, only: reduced_order_max
     implicit none
     private
 
@@ -45,7 +46,8 @@ contains
                 new_unittest('umfpack_forced_same_closed_form', test_umfpack), &
                 new_unittest('unsymmetric_k_goes_to_umfpack', test_unsymmetric), &
                 new_unittest('kept_k_taken_back', test_keep), &
-                new_unittest('gap_and_load_right_hand_sides', test_right_hand_sides) &
+                new_unittest('gap_and_load_right_hand_sides', test_right_hand_sides), &
+                new_unittest('large_reduced_matrix_goes_to_umfpack', test_large) &
                 ]
     end subroutine collect_solver_schur
 
@@ -387,5 +389,46 @@ contains
         if (allocated(error)) return
         call check_against(error, x, 2.0_dp*exact(.true., bar_ea), 'twice the load')
     end subroutine test_right_hand_sides
+
+    !> Springs of stiffness k, each tied by its own multiplier to a gap g (d u_i = d g) under
+    !> a force f: u_i = g and lambda_i = (f - k g) / d (closed form). With the reduced order
+    !> (springs + multipliers) at reduced_order_max the system goes to CHOLMOD, one spring
+    !> more to UMFPACK; both solve it.
+    subroutine test_large(error)
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), parameter :: k = 3.0e4_dp, d = 1.0e4_dp, f = 50.0_dp, g = 2.0e-3_dp
+        type(sparse_pattern_t) :: pattern
+        type(linear_solver_t) :: solver
+        real(dp), allocatable :: values(:), b(:), x(:)
+        integer, allocatable :: dof_ptr(:), dofs(:)
+        integer :: springs, e, round
+        do round = 1, 2
+            springs = reduced_order_max/2 + (round - 1)
+            dof_ptr = [(2*e - 1, e=1, springs + 1)]
+            dofs = [([e, springs + e], e=1, springs)]
+            call build_pattern(pattern, 2*springs, dof_ptr, dofs, error)
+            if (allocated(error)) return
+            allocate (values(pattern%nnz), source=0.0_dp)
+            do e = 1, springs
+                call assemble_element(pattern, values, e, reshape([k, d, d, 0.0_dp], [2, 2]))
+            end do
+            b = [(f, e=1, springs), (d*g, e=1, springs)]
+            allocate (x(2*springs))
+            call solver%configure(linear_solver_auto, .false., multipliers=springs)
+            call factorise(solver, pattern, values, error)
+            if (allocated(error)) return
+            call check(error, solver%is_cholesky() .eqv. (round == 1), &
+                       'CHOLMOD up to reduced_order_max, UMFPACK beyond')
+            if (allocated(error)) return
+            call solver%solve(pattern, values, b, x, error)
+            if (allocated(error)) return
+            call check(error, maxval(abs(x(1:springs) - g)) <= tolerance*g .and. &
+                       maxval(abs(x(springs + 1:) - (f - k*g)/d)) <= &
+                       tolerance*abs((f - k*g)/d), 'springs against the closed form')
+            if (allocated(error)) return
+            call solver%release()
+            deallocate (values, x)
+        end do
+    end subroutine test_large
 
 end module test_solver_schur

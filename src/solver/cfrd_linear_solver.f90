@@ -53,6 +53,8 @@ module cfrd_linear_solver
         integer :: multipliers = 0
         type(schur_t) :: sc
         logical :: use_schur = .false.       !! the current matrix goes to cfrd_schur
+        !> the pattern's reduced matrix is above cfrd_schur's reduced_order_max: UMFPACK
+        logical :: schur_too_large = .false.
         logical :: schur_factorised = .false.
     contains
         procedure :: configure
@@ -136,7 +138,8 @@ contains
         end if
         if (.not. allocated(self%mirror)) self%mirror = mirror_positions(pattern)
         if (self%multipliers > 0) then
-            self%use_schur = symmetric_values(pattern, values, self%mirror, &
+            self%use_schur = .not. self%schur_too_large .and. &
+                             symmetric_values(pattern, values, self%mirror, &
                                               pattern%n - self%multipliers)
             return
         end if
@@ -165,9 +168,15 @@ contains
         type(sparse_pattern_t), intent(in) :: pattern
         real(dp), intent(in) :: values(:)
         type(error_t), allocatable, intent(out) :: error
+        logical :: fits
         if (self%use_schur) then
-            call self%sc%analyse(pattern, self%multipliers, error)
-        else if (self%use_llt) then
+            call self%sc%analyse(pattern, self%multipliers, error, fits)
+            if (allocated(error) .or. fits) return
+            ! too large a reduced matrix: this pattern's systems go to UMFPACK
+            self%schur_too_large = .true.
+            self%use_schur = .false.
+        end if
+        if (self%use_llt) then
             call self%llt%set_ordering(ordering_for(pattern%n, self%constant_tangent))
             call self%llt%analyse(pattern, error)
         else
@@ -352,6 +361,7 @@ contains
         call self%sc%release()
         self%spare_factorised = .false.
         self%use_schur = .false.
+        self%schur_too_large = .false.
         self%schur_factorised = .false.
         if (allocated(self%mirror)) deallocate (self%mirror)
         self%use_llt = .false.

@@ -27,7 +27,14 @@ module cfrd_schur
     implicit none
     private
 
-    public :: schur_t
+    public :: schur_t, reduced_order_max
+
+    !> The largest order of the dense reduced matrix (coupled equations plus multipliers)
+    !> taken [choice, estimated]: its LU costs (2/3) m^3 flops and m^2 doubles at every new
+    !> active set, 18 Gflop and 72 MB at 3000, which is about a whole sparse LU of the x8
+    !> contact system (0.2-0.3 s, docs/performance.md (ab)); a system whose reduced matrix
+    !> would be larger (a contact surface of some 1,000 nodes and more) goes to UMFPACK.
+    integer, parameter :: reduced_order_max = 3000
 
     interface
         subroutine dgetrf(m, n, a, lda, ipiv, info)
@@ -108,16 +115,19 @@ module cfrd_schur
 contains
 
     !> The pattern of A (its last nl equations the multipliers): K's pattern, the coupled
-    !> set G, and CHOLMOD's analysis of K with G last.
-    subroutine analyse(self, pattern, nl, error)
+    !> set G, and CHOLMOD's analysis of K with G last. `fits` is false, and nothing is
+    !> analysed, when the reduced matrix would be above reduced_order_max.
+    subroutine analyse(self, pattern, nl, error, fits)
         class(schur_t), intent(inout) :: self
         type(sparse_pattern_t), intent(in) :: pattern
         integer, intent(in) :: nl
         type(error_t), allocatable, intent(out) :: error
+        logical, intent(out) :: fits
         logical, allocatable :: coupled(:)
         integer, allocatable :: perm(:), place(:), rows(:), cols(:)
         integer :: i, j, p, k, nu, m, ri, cj
         call self%release()
+        fits = .false.
         nu = pattern%n - nl
         if (nu < 1 .or. nl < 0) then
             call fatal_error(error, 'internal: a saddle-point system without displacements', &
@@ -138,6 +148,11 @@ contains
             end do
         end do
         self%ng = count(coupled)
+        fits = self%ng + nl <= reduced_order_max
+        if (.not. fits) then
+            call self%release()
+            return
+        end if
         ! K's pattern: the entries of A's leading block, in A's order
         self%k_from = pack([(p, p=1, pattern%nnz)], rows <= nu .and. cols <= nu)
         self%kpattern%n = nu
