@@ -175,22 +175,32 @@ contains
 
     subroutine test_tied(error)
         type(error_t), allocatable, intent(out) :: error
+        call solve_two_bars(error, linear_solver_auto, .true., .true., 'tied, CHOLMOD')
+    end subroutine test_tied
+
+    !> Two bars tied (else held), factorised under `choice`, the library checked
+    !> (is_cholesky against `cholesky`), solved against the closed form.
+    subroutine solve_two_bars(error, choice, tied, cholesky, what)
+        type(error_t), allocatable, intent(out) :: error
+        integer, intent(in) :: choice
+        logical, intent(in) :: tied, cholesky
+        character(len=*), intent(in) :: what
         type(sparse_pattern_t) :: pattern
         type(linear_solver_t) :: solver
         real(dp), allocatable :: values(:), x(:)
         call two_bars(pattern, values, bar_ea, error)
         if (allocated(error)) return
-        call rows(pattern, values, .true., .false.)
-        call solver%configure(linear_solver_auto, .false., multipliers=2)
+        call rows(pattern, values, tied, .not. tied)
+        call solver%configure(choice, .false., multipliers=2)
         call factorise(solver, pattern, values, error)
         if (allocated(error)) return
-        call check(error, solver%is_cholesky(), 'the tied bars go to CHOLMOD (Schur)')
+        call check(error, solver%is_cholesky() .eqv. cholesky, what//': the library')
         if (allocated(error)) return
         allocate (x(neq))
         call solver%solve(pattern, values, loads(), x, error)
         if (allocated(error)) return
-        call check_against(error, x, exact(.true., bar_ea), 'tied')
-    end subroutine test_tied
+        call check_against(error, x, exact(tied, bar_ea), what)
+    end subroutine solve_two_bars
 
     !> Tie, then hold, then tie again: the same K, new rows, each an update of R alone.
     subroutine test_update(error)
@@ -262,21 +272,7 @@ contains
     !> --linear-solver umfpack: the same closed forms by UMFPACK.
     subroutine test_umfpack(error)
         type(error_t), allocatable, intent(out) :: error
-        type(sparse_pattern_t) :: pattern
-        type(linear_solver_t) :: solver
-        real(dp), allocatable :: values(:), x(:)
-        call two_bars(pattern, values, bar_ea, error)
-        if (allocated(error)) return
-        call rows(pattern, values, .false., .true.)
-        call solver%configure(linear_solver_umfpack, .false., multipliers=2)
-        call factorise(solver, pattern, values, error)
-        if (allocated(error)) return
-        call check(error, .not. solver%is_cholesky(), 'UMFPACK when forced')
-        if (allocated(error)) return
-        allocate (x(neq))
-        call solver%solve(pattern, values, loads(), x, error)
-        if (allocated(error)) return
-        call check_against(error, x, exact(.false., bar_ea), 'UMFPACK')
+        call solve_two_bars(error, linear_solver_umfpack, .false., .false., 'held, UMFPACK')
     end subroutine test_umfpack
 
     !> K not symmetric (a Newton tangent's case): UMFPACK, under auto and cholmod alike. A

@@ -54,9 +54,10 @@ static void free_factor(cfrd_cholmod_t *h)
 
 /* Symbolic analysis (ordering, supernodes) of the pattern ap, ai (n columns); replaces an
  * earlier one. Returns CHOLMOD's status (0 ok, negative an error). */
-int cfrd_cholmod_analyse(void *handle, int n, const int *ap, const int *ai)
+/* The pattern ap, ai (n columns, values 0) as the handle's matrix, replacing an earlier
+ * analysis. Returns CHOLMOD's status. */
+static int load_pattern(cfrd_cholmod_t *h, int n, const int *ap, const int *ai)
 {
-    cfrd_cholmod_t *h = handle;
     int nnz = ap[n];
     free_factor(h);
     h->common.status = CHOLMOD_OK;
@@ -66,6 +67,14 @@ int cfrd_cholmod_analyse(void *handle, int n, const int *ap, const int *ai)
     memcpy(h->a->p, ap, sizeof(int) * (size_t)(n + 1));
     memcpy(h->a->i, ai, sizeof(int) * (size_t)nnz);
     memset(h->a->x, 0, sizeof(double) * (size_t)nnz);
+    return CHOLMOD_OK;
+}
+
+int cfrd_cholmod_analyse(void *handle, int n, const int *ap, const int *ai)
+{
+    cfrd_cholmod_t *h = handle;
+    int status = load_pattern(h, n, ap, ai);
+    if (status != CHOLMOD_OK) return status;
     h->l = cholmod_analyze(h->a, &h->common);
     if (h->l == NULL) return h->common.status < 0 ? h->common.status : CHOLMOD_INVALID;
     return h->common.status < 0 ? h->common.status : CHOLMOD_OK;
@@ -79,15 +88,8 @@ int cfrd_cholmod_analyse_last(void *handle, int n, const int *ap, const int *ai,
                               const int *last)
 {
     cfrd_cholmod_t *h = handle;
-    int nnz = ap[n], *cmember, *perm, ok;
-    free_factor(h);
-    h->common.status = CHOLMOD_OK;
-    h->a = cholmod_allocate_sparse((size_t)n, (size_t)n, (size_t)nnz, 1, 1, 1, CHOLMOD_REAL,
-                                   &h->common);
-    if (h->a == NULL) return h->common.status < 0 ? h->common.status : CHOLMOD_OUT_OF_MEMORY;
-    memcpy(h->a->p, ap, sizeof(int) * (size_t)(n + 1));
-    memcpy(h->a->i, ai, sizeof(int) * (size_t)nnz);
-    memset(h->a->x, 0, sizeof(double) * (size_t)nnz);
+    int *cmember, *perm, ok, status = load_pattern(h, n, ap, ai);
+    if (status != CHOLMOD_OK) return status;
     cmember = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1));
     perm = malloc(sizeof(int) * (size_t)(n > 0 ? n : 1));
     if (cmember == NULL || perm == NULL) {

@@ -24,6 +24,7 @@ module cfrd_schur
     use cfrd_cholmod, only: cholmod_t
     use cfrd_umfpack, only: rcond_min
     use cfrd_strings, only: to_text
+    use cfrd_lapack, only: dgetrf, dgetrs, dsyrk, dtrmv
     implicit none
     private
 
@@ -36,39 +37,6 @@ module cfrd_schur
     !> would be larger (a contact surface of some 1,000 nodes and more) goes to UMFPACK.
     integer, parameter :: reduced_order_max = 3000
 
-    interface
-        subroutine dgetrf(m, n, a, lda, ipiv, info)
-            import :: dp
-            integer, intent(in) :: m, n, lda
-            real(dp), intent(inout) :: a(lda, *)
-            integer, intent(out) :: ipiv(*), info
-        end subroutine dgetrf
-
-        subroutine dgetrs(trans, n, nrhs, a, lda, ipiv, b, ldb, info)
-            import :: dp
-            character, intent(in) :: trans
-            integer, intent(in) :: n, nrhs, lda, ldb, ipiv(*)
-            real(dp), intent(in) :: a(lda, *)
-            real(dp), intent(inout) :: b(ldb, *)
-            integer, intent(out) :: info
-        end subroutine dgetrs
-
-        subroutine dsyrk(uplo, trans, n, k, alpha, a, lda, beta, c, ldc)
-            import :: dp
-            character, intent(in) :: uplo, trans
-            integer, intent(in) :: n, k, lda, ldc
-            real(dp), intent(in) :: alpha, beta, a(lda, *)
-            real(dp), intent(inout) :: c(ldc, *)
-        end subroutine dsyrk
-
-        subroutine dtrmv(uplo, trans, diag, n, a, lda, x, incx)
-            import :: dp
-            character, intent(in) :: uplo, trans, diag
-            integer, intent(in) :: n, lda, incx
-            real(dp), intent(in) :: a(lda, *)
-            real(dp), intent(inout) :: x(*)
-        end subroutine dtrmv
-    end interface
 
     !> The numbers of one factorisation of K: its CHOLMOD factor, K's values (unshifted, to
     !> know it again), the shift, L_GG, S and the pivots of the other columns.

@@ -11,6 +11,7 @@ module cfrd_umfpack
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, numerical_error
     use cfrd_sparse, only: sparse_pattern_t
+    use cfrd_lapack, only: dgetrf, dgetrs, dgecon
     implicit none
     private
 
@@ -156,33 +157,6 @@ module cfrd_umfpack
             import :: c_ptr
             type(c_ptr), intent(inout) :: numeric
         end subroutine umfpack_di_free_numeric
-
-        ! LAPACK: LU factorisation, solve and condition estimate of the small dense
-        ! capacitance matrix of a row update.
-        subroutine dgetrf(m, n, a, lda, ipiv, info)
-            import :: dp
-            integer, intent(in) :: m, n, lda
-            real(dp), intent(inout) :: a(lda, *)
-            integer, intent(out) :: ipiv(*), info
-        end subroutine dgetrf
-
-        subroutine dgetrs(trans, n, nrhs, a, lda, ipiv, b, ldb, info)
-            import :: dp
-            character, intent(in) :: trans
-            integer, intent(in) :: n, nrhs, lda, ldb, ipiv(*)
-            real(dp), intent(in) :: a(lda, *)
-            real(dp), intent(inout) :: b(ldb, *)
-            integer, intent(out) :: info
-        end subroutine dgetrs
-
-        subroutine dgecon(norm, n, a, lda, anorm, rcond, work, iwork, info)
-            import :: dp
-            character, intent(in) :: norm
-            integer, intent(in) :: n, lda
-            real(dp), intent(in) :: a(lda, *), anorm
-            real(dp), intent(out) :: rcond, work(*)
-            integer, intent(out) :: iwork(*), info
-        end subroutine dgecon
     end interface
 
 contains
