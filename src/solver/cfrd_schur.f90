@@ -14,9 +14,10 @@
 !>         [ B_G  E ]
 !>
 !> is factorised by LAPACK's LU. A solve is CHOLMOD's forward half (kept for the next solve
-!> of the same displacement right-hand side), R's solve, CHOLMOD's backward half. A new active set (new B, E with the same K) refactorises R alone
-!> (`update`): the active-set iterations cost no sparse factorisation. K's factorisation can
-!> be set aside (`keep`) and is taken back when the same K comes again.
+!> of the same displacement right-hand side), R's solve, CHOLMOD's backward half. A new
+!> active set (new B, E with the same K) refactorises R alone (`update`): the active-set
+!> iterations cost no sparse factorisation. K's factorisation can be set aside (`keep`) and
+!> is taken back when the same K comes again.
 module cfrd_schur
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t, fatal_error, numerical_error
@@ -129,8 +130,9 @@ contains
         allocate (self%kpattern%colptr(nu + 1))
         self%kpattern%colptr(1) = 0
         do j = 1, nu
+            p = pattern%colptr(j)
             self%kpattern%colptr(j + 1) = self%kpattern%colptr(j) + &
-                                          count(rows(pattern%colptr(j) + 1:pattern%colptr(j + 1)) <= nu)
+                                          count(rows(p + 1:pattern%colptr(j + 1)) <= nu)
         end do
         self%shift_at = pack([(k, k=1, size(self%k_from))], &
                              rows(self%k_from) == cols(self%k_from) .and. &
@@ -168,10 +170,10 @@ contains
         is_analysed = self%analysed
     end function is_analysed
 
-    !> Factorise A: K by CHOLMOD (`reused` when it is the K factorised already or the one set
-    !> aside by keep, taken back), then R. `positive` is false, and nothing is kept, when CHOLMOD finds K (with G's
-    !> shift) not positive definite: the caller factorises A by UMFPACK. A singular R is an
-    !> error, as UMFPACK's singular matrix is.
+    !> Factorise A: K by CHOLMOD (`reused` when it is the K factorised already, or the one
+    !> set aside by keep, taken back), then R. `positive` is false, and nothing is kept,
+    !> when CHOLMOD finds K (with G's shift) not positive definite: the caller factorises A
+    !> by UMFPACK. A singular R is an error, as UMFPACK's singular matrix is.
     subroutine factorise(self, pattern, values, positive, error, reused)
         class(schur_t), intent(inout) :: self
         type(sparse_pattern_t), intent(in) :: pattern
