@@ -208,10 +208,11 @@ contains
             self%schur_factorised = positive
             if (positive) return
             if (self%choice == linear_solver_cholmod) then
-                call fatal_error(error, 'CHOLMOD: the stiffness matrix of the contact system '// &
-                                 'is not positive definite on the coupled equations '// &
-                                 'shifted, or badly conditioned (--linear-solver cholmod; '// &
-                                 'auto would use UMFPACK)', numerical_error)
+                call fatal_error(error, 'CHOLMOD: the contact system''s stiffness matrix K '// &
+                                 '(its contact nodes'' diagonal shifted) is not positive '// &
+                                 'definite, or its reciprocal condition estimate is below '// &
+                                 'the limit (--linear-solver cholmod; auto would use '// &
+                                 'UMFPACK)', numerical_error)
                 return
             end if
             declined = .true.
