@@ -140,8 +140,8 @@ fuzz: build
 ## bench: timing figures (see docs/performance.md)
 ## and then the accuracy-cost study (make accuracy, below).
 ## make bench BASELINE=OLD/cfrd: instead, before and after in one run: OLD and bin/cfrd on the
-## x4 bonded, joint and thin decks (midpoint, Newton), alternately, 3 rounds, the ratios of
-## user, analysis and factorisation time and the results' agreement to 1e-8
+## x4 bonded, joint, thin and contact decks (midpoint, Newton), alternately, 3 rounds, the
+## ratios of user, analysis and factorisation time and the results' agreement to 1e-8
 ## (tools/bench_baseline.py; BENCH_FLAGS="--rounds 1 --solvers midpoint" and so on)
 bench: build
 	@if [ -n "$(BASELINE)" ]; then \
