@@ -23,7 +23,7 @@ module cfrd_schur
     use cfrd_error, only: error_t, fatal_error, numerical_error
     use cfrd_sparse, only: sparse_pattern_t
     use cfrd_cholmod, only: cholmod_t
-    use cfrd_umfpack, only: rcond_min
+    use cfrd_umfpack, only: rcond_min, singular_text
     use cfrd_strings, only: to_text
     use cfrd_lapack, only: dgetrf, dgetrs, dsyrk, dtrmv
     implicit none
@@ -182,7 +182,6 @@ contains
         type(error_t), allocatable, intent(out) :: error
         logical, intent(out) :: reused
         real(dp), allocatable :: kvalues(:)
-        type(k_factor_t) :: swap
         logical :: current
         positive = .false.
         reused = .false.
@@ -204,7 +203,7 @@ contains
         if (self%k%factorised) current = all(kvalues == self%k%kbase)
         if (self%spare%factorised .and. .not. current) reused = all(kvalues == self%spare%kbase)
         if (reused) then
-            call exchange_factors(self%k, self%spare, swap)
+            call exchange_factors(self%k, self%spare)
             self%spare%factorised = .false.
         else if (.not. current) then
             if (.not. self%k%llt%is_analysed()) call self%k%llt%copy_analysis(self%spare%llt)
@@ -253,7 +252,6 @@ contains
         type(error_t), allocatable, intent(out) :: error
         integer :: m, i, info
         real(dp) :: u
-        character(len=120) :: text
         self%factorised = .false.
         if (.not. self%k%factorised) then
             call fatal_error(error, 'internal: Schur update without a factorisation of K', &
@@ -280,12 +278,9 @@ contains
             self%u_range = [min(self%u_range(1), u), max(self%u_range(2), u)]
         end do
         if (info /= 0 .or. .not. (self%rcond() >= rcond_min)) then
-            write (text, '(a,es9.2,a,es9.2,a)') ' (reciprocal condition estimate ', &
-                self%rcond(), ', limit ', rcond_min, ')'
-            call fatal_error(error, 'singular or nearly singular stiffness matrix: '// &
-                             'the contact system''s reduced matrix (order '//to_text(m)// &
-                             ')'//trim(text)//'; is part of the mesh unsupported or '// &
-                             'disconnected?', numerical_error)
+            call fatal_error(error, singular_text('the contact system''s reduced matrix '// &
+                                                  '(order '//to_text(m)//')', self%rcond()), &
+                             numerical_error)
             return
         end if
         self%factorised = .true.
@@ -369,17 +364,17 @@ contains
     !> Set K's factorisation aside: factorise takes it back when it is given the same K.
     subroutine keep(self)
         class(schur_t), intent(inout) :: self
-        type(k_factor_t) :: swap
         if (.not. self%k%factorised) return
-        call exchange_factors(self%k, self%spare, swap)
+        call exchange_factors(self%k, self%spare)
         self%k%factorised = .false.
         self%factorised = .false.
         if (allocated(self%b_last)) deallocate (self%b_last, self%z_last)
     end subroutine keep
 
     !> Exchange two factorisations of K (their CHOLMOD objects too), freeing neither.
-    subroutine exchange_factors(a, b, swap)
-        type(k_factor_t), intent(inout) :: a, b, swap
+    subroutine exchange_factors(a, b)
+        type(k_factor_t), intent(inout) :: a, b
+        type(k_factor_t) :: swap
         real(dp) :: numbers(3)
         logical :: flag
         call a%llt%exchange(b%llt)

@@ -15,7 +15,7 @@ module cfrd_umfpack
     implicit none
     private
 
-    public :: umfpack_t, rcond_min, umfpack_status_text, max_update_rank
+    public :: umfpack_t, rcond_min, umfpack_status_text, max_update_rank, singular_text
 
     !> Below this reciprocal condition estimate the solution is refused: about 500 times the
     !> double-precision machine epsilon (2.2e-16). The error of a solve grows like eps/rcond, so
@@ -250,7 +250,6 @@ contains
         type(error_t), allocatable, intent(out) :: error
         logical, intent(out), optional :: reused
         integer(c_int) :: status
-        character(len=120) :: text
         if (present(reused)) reused = .false.
         call check_sizes(pattern, values, error)
         if (allocated(error)) return
@@ -272,12 +271,8 @@ contains
                                     self%numeric, self%control, self%info)
         if (status == warning_singular .or. &
             (status == umfpack_ok .and. .not. (self%rcond() >= rcond_min))) then
-            write (text, '(a,es9.2,a,es9.2,a)') ' (reciprocal condition estimate ', &
-                self%rcond(), ', limit ', rcond_min, ')'
-            call fatal_error(error, 'singular or nearly singular stiffness matrix: '// &
-                             umfpack_status_text(int(status))//trim(text)// &
-                             '; is part of the mesh unsupported or disconnected?', &
-                             numerical_error)
+            call fatal_error(error, singular_text(umfpack_status_text(int(status)), &
+                                                  self%rcond()), numerical_error)
         else if (status /= umfpack_ok) then
             call fatal_error(error, 'numeric factorisation failed: '// &
                              umfpack_status_text(int(status)), numerical_error)
@@ -678,6 +673,21 @@ contains
         type(umfpack_t), intent(inout) :: self
         call self%release()
     end subroutine finalise
+
+    !> The message of a singular or nearly singular system (UMFPACK's, or the contact
+    !> system's reduced matrix in cfrd_schur): `what` the solver's finding, `rcond` its
+    !> reciprocal condition estimate. The words "singular" are what the contact mechanism
+    !> rule looks for (cfrd_linear_system's factorise_contact).
+    function singular_text(what, rcond) result(text)
+        character(len=*), intent(in) :: what
+        real(dp), intent(in) :: rcond
+        character(len=:), allocatable :: text
+        character(len=120) :: numbers
+        write (numbers, '(a,es9.2,a,es9.2,a)') ' (reciprocal condition estimate ', rcond, &
+            ', limit ', rcond_min, ')'
+        text = 'singular or nearly singular stiffness matrix: '//what//trim(numbers)// &
+               '; is part of the mesh unsupported or disconnected?'
+    end function singular_text
 
     !> The one place where UMFPACK status codes become words.
     pure function umfpack_status_text(status) result(text)
