@@ -16,6 +16,7 @@ module cfrd_duncan_eb
     !> Upper bound of the tangent Poisson ratio: Bt <= Et / (3 (1 - 2 nu_t_max)).
     real(dp), parameter :: nu_t_max = 0.49_dp
     real(dp), parameter :: deg = 0.017453292519943295769_dp
+    real(dp), parameter :: ln10 = 2.302585092994045684_dp
     !> Width of the loading-to-unloading transition, as a fraction of the past maximum of
     !> the stress-state function.
     real(dp), parameter :: transition = 0.25_dp
@@ -51,7 +52,7 @@ contains
         real(dp), intent(out) :: sigma1, sigma3
         real(dp) :: centre, radius
         centre = -0.5_dp*(stress(1) + stress(2))
-        radius = hypot(0.5_dp*(stress(1) - stress(2)), stress(4))
+        radius = circle_radius(0.5_dp*(stress(1) - stress(2)), stress(4))
         sigma1 = centre + radius
         sigma3 = centre - radius
     end subroutine eb_principal
@@ -60,26 +61,58 @@ contains
     pure real(dp) function eb_friction_angle(p, sigma3) result(phi)
         type(eb_params_t), intent(in) :: p
         real(dp), intent(in) :: sigma3
-        phi = p%phi0 - p%dphi*log10(max(sigma3, p%sigma3_floor)/p%pa)
-        phi = min(max(phi, 1.0_dp), 89.0_dp)
+        phi = friction_angle(p, log_ratio(p, sigma3))
     end function eb_friction_angle
+
+    !> ln(sigma3/pa) of sigma3 floored: the one logarithm an evaluation of the law takes.
+    !> log10(sigma3/pa) = ln(sigma3/pa)/ln 10 and (sigma3/pa)^x = exp(x ln(sigma3/pa))
+    !> follow from it (one log and an exp for each power, in place of a log10 and a pow for
+    !> each: the same values to a few units in the last place).
+    pure real(dp) function log_ratio(p, sigma3) result(t)
+        type(eb_params_t), intent(in) :: p
+        real(dp), intent(in) :: sigma3
+        t = log(max(sigma3, p%sigma3_floor)/p%pa)
+    end function log_ratio
+
+    !> The friction angle (degrees, clamped to [1, 89]) from t = ln(sigma3/pa) (eq. 20).
+    pure real(dp) function friction_angle(p, t) result(phi)
+        type(eb_params_t), intent(in) :: p
+        real(dp), intent(in) :: t
+        phi = p%phi0 - p%dphi*(t/ln10)
+        phi = min(max(phi, 1.0_dp), 89.0_dp)
+    end function friction_angle
+
+    !> The deviator at failure (eb_failure_deviator) of floored s3, t = ln(s3/pa).
+    pure real(dp) function failure_deviator(p, s3, t) result(qf)
+        type(eb_params_t), intent(in) :: p
+        real(dp), intent(in) :: s3, t
+        real(dp) :: phi, sphi
+        phi = friction_angle(p, t)*deg
+        sphi = sin(phi)
+        qf = (2.0_dp*p%cohesion*cos(phi) + 2.0_dp*s3*sphi)/(1.0_dp - sphi)
+    end function failure_deviator
+
+    !> sqrt(a^2 + b^2), the radius of Mohr's circle: stresses in kPa are far from
+    !> overflow and underflow, so the plain form serves (hypot guards against both, at
+    !> several times the cost).
+    pure real(dp) function circle_radius(a, b) result(r)
+        real(dp), intent(in) :: a, b
+        r = sqrt(a*a + b*b)
+    end function circle_radius
 
     !> Deviator at failure (Mohr-Coulomb, as in eq. 19):
     !> (sigma1 - sigma3)_f = (2 c cos phi + 2 sigma3 sin phi) / (1 - sin phi).
     pure real(dp) function eb_failure_deviator(p, sigma3) result(qf)
         type(eb_params_t), intent(in) :: p
         real(dp), intent(in) :: sigma3
-        real(dp) :: s3, phi
-        s3 = max(sigma3, p%sigma3_floor)
-        phi = eb_friction_angle(p, s3)*deg
-        qf = (2.0_dp*p%cohesion*cos(phi) + 2.0_dp*s3*sin(phi))/(1.0_dp - sin(phi))
+        qf = failure_deviator(p, max(sigma3, p%sigma3_floor), log_ratio(p, sigma3))
     end function eb_failure_deviator
 
     !> Initial tangent modulus Ei = K pa (sigma3/pa)^n.
     pure real(dp) function eb_initial_modulus(p, sigma3) result(ei)
         type(eb_params_t), intent(in) :: p
         real(dp), intent(in) :: sigma3
-        ei = p%k*p%pa*(max(sigma3, p%sigma3_floor)/p%pa)**p%n
+        ei = p%k*p%pa*exp(p%n*log_ratio(p, sigma3))
     end function eb_initial_modulus
 
     !> The moduli of the linear-elastic stand-in for the law (EFFECTS card, ROCKFILL LINEAR):
@@ -99,7 +132,7 @@ contains
         real(dp), intent(out) :: e, nu
         real(dp) :: b
         e = eb_initial_modulus(p, sigma3)
-        b = p%kb*p%pa*(max(sigma3, p%sigma3_floor)/p%pa)**p%m
+        b = p%kb*p%pa*exp(p%m*log_ratio(p, sigma3))
         b = min(max(b, e/3.0_dp), e/(3.0_dp*(1.0_dp - 2.0_dp*nu_t_max)))
         nu = (3.0_dp*b - e)/(6.0_dp*b)
     end subroutine eb_initial_moduli
@@ -108,7 +141,7 @@ contains
     pure real(dp) function eb_unload_modulus(p, sigma3) result(eur)
         type(eb_params_t), intent(in) :: p
         real(dp), intent(in) :: sigma3
-        eur = p%kur*p%pa*(max(sigma3, p%sigma3_floor)/p%pa)**p%n
+        eur = p%kur*p%pa*exp(p%n*log_ratio(p, sigma3))
     end function eb_unload_modulus
 
     !> Duncan's stress-state function SS = S (sigma3/pa)^(1/4), whose past maximum decides
@@ -190,29 +223,32 @@ contains
         real(dp), intent(in) :: stress(4), ss_max
         real(dp), intent(out) :: d(4, 4)
         type(eb_state_t), intent(out), optional :: state
-        real(dp) :: sigma1, sigma3, s3, level, et, bt, nu_t, ss, weight
+        real(dp) :: sigma1, sigma3, s3, t, power_n, level, et, bt, nu_t, ss, weight
         logical :: unloading
         call eb_principal(stress, sigma1, sigma3)
         s3 = max(sigma3, p%sigma3_floor)
-        level = stress_level(p, sigma1, sigma3)
+        t = log_ratio(p, sigma3)
+        level = (sigma1 - sigma3)/failure_deviator(p, s3, t)
+        level = min(max(level, 0.0_dp), p%level_cap)
         ss = level*sqrt(sqrt(s3/p%pa))
+        power_n = exp(p%n*t)
         ! Loading (SS at its past maximum): Et of eq. 19. Unloading: the modulus moves
         ! linearly from Et to Eur as SS falls from its past maximum to 0.75 of it, and is Eur
         ! below (the transition of Duncan et al. 1980). A sharp switch makes the incremental
         ! solution chatter between the branches (docs/theory.md section 8).
-        et = eb_initial_modulus(p, s3)*(1.0_dp - p%rf*level)**2
+        et = p%k*p%pa*power_n*(1.0_dp - p%rf*level)**2
         unloading = .false.
         if (ss_max > ss_threshold .and. ss < ss_max) then
             weight = min(1.0_dp, (ss_max - ss)/(transition*ss_max))
-            et = et + weight*max(eb_unload_modulus(p, s3) - et, 0.0_dp)
+            et = et + weight*max(p%kur*p%pa*power_n - et, 0.0_dp)
             unloading = weight > 0.0_dp
         end if
-        bt = p%kb*p%pa*(s3/p%pa)**p%m
+        bt = p%kb*p%pa*exp(p%m*t)
         bt = min(max(bt, et/3.0_dp), et/(3.0_dp*(1.0_dp - 2.0_dp*nu_t_max)))
         nu_t = (3.0_dp*bt - et)/(6.0_dp*bt)
         d = elastic_dmatrix(et, nu_t)
         if (present(state)) then
-            state = eb_state_t(sigma1=sigma1, sigma3=sigma3, phi=eb_friction_angle(p, s3), &
+            state = eb_state_t(sigma1=sigma1, sigma3=sigma3, phi=friction_angle(p, t), &
                                level=level, et=et, bt=bt, nu_t=nu_t, unloading=unloading)
         end if
     end subroutine eb_tangent
@@ -227,14 +263,14 @@ contains
         type(eb_params_t), intent(in) :: p
         real(dp), intent(in) :: stress(4), ss_max
         real(dp), intent(out) :: et, bt, det(4), dbt(4)
-        real(dp), parameter :: ln10 = 2.302585092994045684_dp
+        real(dp) :: t, power_n
         real(dp) :: half_difference, radius, dradius(4), sigma3, s3, ds3(4)
         real(dp) :: phi, dphi_ds3, sphi, cphi, qf, dqf_ds3, level_raw, level, dlevel(4)
         real(dp) :: ei, dei(4), eload, deload(4), root4, ss, dss(4), weight_raw, dweight(4)
         real(dp) :: eur, deur(4), b_raw, db_raw(4), b_low, b_high
         ! principal stresses, compression positive (eb_principal)
         half_difference = 0.5_dp*(stress(1) - stress(2))
-        radius = hypot(half_difference, stress(4))
+        radius = circle_radius(half_difference, stress(4))
         dradius = 0.0_dp
         if (radius > 0.0_dp) dradius = [0.5_dp*half_difference/radius, &
                                         -0.5_dp*half_difference/radius, 0.0_dp, &
@@ -244,7 +280,9 @@ contains
         ds3 = 0.0_dp
         if (sigma3 > p%sigma3_floor) ds3 = [-0.5_dp, -0.5_dp, 0.0_dp, 0.0_dp] - dradius
         ! strength (eqs. 19-20): phi in degrees, clamped to [1, 89]
-        phi = p%phi0 - p%dphi*log10(s3/p%pa)
+        t = log(s3/p%pa)
+        power_n = exp(p%n*t)
+        phi = p%phi0 - p%dphi*(t/ln10)
         dphi_ds3 = -p%dphi/(s3*ln10)
         if (phi <= 1.0_dp .or. phi >= 89.0_dp) dphi_ds3 = 0.0_dp
         phi = min(max(phi, 1.0_dp), 89.0_dp)*deg
@@ -261,7 +299,7 @@ contains
         if (level_raw > 0.0_dp .and. level_raw < p%level_cap) &
             dlevel = (2.0_dp*dradius - level_raw*dqf_ds3*ds3)/qf
         ! loading modulus (eq. 19)
-        ei = eb_initial_modulus(p, s3)
+        ei = p%k*p%pa*power_n
         dei = p%n*ei/s3*ds3
         eload = ei*(1.0_dp - p%rf*level)**2
         deload = dei*(1.0_dp - p%rf*level)**2 - 2.0_dp*p%rf*ei*(1.0_dp - p%rf*level)*dlevel
@@ -275,7 +313,7 @@ contains
             weight_raw = (ss_max - ss)/(transition*ss_max)
             dweight = 0.0_dp
             if (weight_raw < 1.0_dp) dweight = -dss/(transition*ss_max)
-            eur = eb_unload_modulus(p, s3)
+            eur = p%kur*p%pa*power_n
             deur = p%n*eur/s3*ds3
             if (eur > eload) then
                 et = eload + min(1.0_dp, weight_raw)*(eur - eload)
@@ -283,7 +321,7 @@ contains
             end if
         end if
         ! bulk modulus (eq. 21) within the Poisson bounds
-        b_raw = p%kb*p%pa*(s3/p%pa)**p%m
+        b_raw = p%kb*p%pa*exp(p%m*t)
         db_raw = p%m*b_raw/s3*ds3
         b_low = et/3.0_dp
         b_high = et/(3.0_dp*(1.0_dp - 2.0_dp*nu_t_max))
