@@ -15,6 +15,7 @@ module test_analysis_rockfill
                               eb_unload_modulus, nu_t_max, eb_tangent, eb_state_t, &
                               eb_stress_state, eb_moduli_gradient
     use cfrd_material_law, only: eb_parameters, material_update, material_update_tangent, &
+                                 material_update_with_tangent, &
                                  update_substeps, max_substeps
     use cfrd_test_models, only: new_model, elastic_material
     use cfrd_model, only: plane_strain
@@ -51,6 +52,7 @@ contains
                 new_unittest('newton_gmres_corrections', test_newton_gmres), &
                 new_unittest('substep_update_kondner', test_substep_update), &
                 new_unittest('substep_consistent_tangent', test_substep_tangent), &
+                new_unittest('update_with_tangent_one_pass', test_update_with_tangent), &
                 new_unittest('error_control_one_increment', test_error_control) &
                 ]
     end subroutine collect_analysis_rockfill
@@ -728,4 +730,83 @@ contains
             if (allocated(error)) return
         end do
     end subroutine test_substep_tangent
+
+    !> Newton's line search takes the update and its tangent from one pass
+    !> (material_update_with_tangent, whose states are the tangent's recursion's, D from
+    !> eb_moduli_gradient): its stresses against material_update's (the update coded apart,
+    !> D from eb_tangent) within 1e-12 of the largest stress, the same tangent as
+    !> material_update_tangent within 1e-13 of its largest entry, and that tangent against
+    !> central differences of material_update within 1e-6 (as eb_consistent_tangent); in one
+    !> step and in update_substeps' sub-steps, loading and reloading (the points of
+    !> substep_consistent_tangent), and unloading to Eur.
+    subroutine test_update_with_tangent(error)
+        type(error_t), allocatable, intent(out) :: error
+        integer, parameter :: ncase = 4
+        character(len=24), parameter :: names(ncase) = [character(len=24) :: &
+            'fresh point', 'stressed point', 'reloading', 'unloading']
+        real(dp), parameter :: s0(4, ncase) = reshape([ &
+            -50.0_dp, -50.0_dp, -50.0_dp, 0.0_dp, &
+            -300.0_dp, -700.0_dp, -300.0_dp, 50.0_dp, &
+            -400.0_dp, -650.0_dp, -420.0_dp, 30.0_dp, &
+            -300.0_dp, -700.0_dp, -300.0_dp, 50.0_dp], [4, ncase])
+        real(dp), parameter :: de0(4, ncase) = reshape([ &
+            1.0e-3_dp, -4.0e-3_dp, 0.0_dp, 1.0e-3_dp, &
+            -1.0e-3_dp, -2.0e-2_dp, 0.0_dp, 4.0e-3_dp, &
+            2.0e-4_dp, -1.5e-3_dp, 0.0_dp, -2.0e-4_dp, &
+            0.0_dp, 5.0e-4_dp, 0.0_dp, 0.0_dp], [4, ncase])
+        real(dp), parameter :: zero4(4) = 0.0_dp
+        type(material_t) :: mat
+        type(eb_params_t) :: p
+        real(dp) :: history(2), d0(4, 4), c(4, 4), c_apart(4, 4), fd(4, 4), de(4), h
+        real(dp) :: s_new(4), s_mid(4), u_new(4), u_mid(4), plus(4), minus(4), mid(4)
+        integer :: k, j, pass, nsub
+        mat = table3_material(3)
+        p = eb_parameters(mat, pa)
+        do k = 1, ncase
+            history = 0.0_dp
+            if (k == 3) history(1) = eb_stress_state(p, s0(:, k))/0.6_dp
+            if (k == 4) history(1) = eb_stress_state(p, s0(:, k))
+            call eb_tangent(p, s0(:, k), history(1), d0)
+            do pass = 1, 2
+                nsub = 1
+                if (pass == 2) nsub = max(2, update_substeps(mat, pa, s0(:, k), history, &
+                                                             de0(:, k), d0))
+                call material_update_with_tangent(mat, pa, s0(:, k), zero4, history, &
+                                                  de0(:, k), d0, nsub, s_new, s_mid, c)
+                call material_update(mat, pa, s0(:, k), zero4, history, de0(:, k), .true., &
+                                     u_new, u_mid, d0, nsub)
+                call material_update_tangent(mat, pa, s0(:, k), zero4, history, de0(:, k), &
+                                             c_apart, d0, nsub)
+                h = 1.0e-5_dp*maxval(abs(de0(:, k)))
+                do j = 1, 4
+                    de = de0(:, k)
+                    de(j) = de(j) + h
+                    call material_update(mat, pa, s0(:, k), zero4, history, de, .true., plus, &
+                                         mid, d0, nsub)
+                    de(j) = de(j) - 2.0_dp*h
+                    call material_update(mat, pa, s0(:, k), zero4, history, de, .true., minus, &
+                                         mid, d0, nsub)
+                    fd(:, j) = (plus - minus)/(2.0_dp*h)
+                end do
+                write (*, '(a,a,i3,a,3es10.2)') '  ', names(k), nsub, &
+                    ' sub-steps: stress, mid, tangent off by', &
+                    maxval(abs(s_new - u_new))/maxval(abs(u_new)), &
+                    maxval(abs(s_mid - u_mid))/maxval(abs(u_mid)), &
+                    maxval(abs(c - fd))/maxval(abs(fd))
+                call check(error, maxval(abs(s_new - u_new)) <= 1.0e-12_dp*maxval(abs(u_new)) &
+                           .and. maxval(abs(s_mid - u_mid)) <= 1.0e-12_dp*maxval(abs(u_mid)), &
+                           'one pass, '//trim(names(k))//': the update differs from '// &
+                           'material_update')
+                if (allocated(error)) return
+                call check(error, maxval(abs(c - c_apart)) <= 1.0e-13_dp*maxval(abs(c_apart)), &
+                           'one pass, '//trim(names(k))//': the tangent differs from '// &
+                           'material_update_tangent')
+                if (allocated(error)) return
+                call check(error, maxval(abs(c - fd)) <= 1.0e-6_dp*maxval(abs(fd)), &
+                           'one pass, '//trim(names(k))//': analytic and central '// &
+                           'differences differ')
+                if (allocated(error)) return
+            end do
+        end do
+    end subroutine test_update_with_tangent
 end module test_analysis_rockfill

@@ -12,7 +12,8 @@ module cfrd_increment
     use cfrd_model, only: model_t, solver_midpoint, solver_euler, solver_newton
     use cfrd_results, only: stage_result_t
     use cfrd_material_law, only: all_linear, update_history, material_update, &
-                                 material_update_tangent, material_tangent, update_substeps
+                                 material_update_tangent, material_tangent, update_substeps, &
+                                 material_update_with_tangent
     use cfrd_assembly, only: element_box_t, dof_map_t, assemble_tangent, internal_forces, &
                              gather, min_parallel
     use cfrd_contact, only: contact_t, contact_geometry
@@ -122,6 +123,8 @@ contains
         real(dp), allocatable :: rhs_stress(:, :, :), d_start(:, :, :, :), f_end(:, :)
         real(dp), allocatable :: d_here(:, :, :, :)
         integer, allocatable :: substeps(:, :), grown(:, :)
+        !> the consistent tangents of the last full Newton step taken (update_and_tangents)
+        real(dp), allocatable :: c_next(:, :, :, :)
         integer :: iteration
         type(contact_t), allocatable :: contact
         logical :: changed, searched, linear, reject, reuse, retried
@@ -256,6 +259,7 @@ contains
                 grown = substep_counts(model, library, state, du, d_start, substeps)
                 if (any(grown /= substeps)) then
                     substeps = grown
+                    if (allocated(c_next)) deallocate (c_next)
                     call integrate_stress(model, library, state, du, stress_end, stress_mid, &
                                           .true., creep_share=1.0_dp, d_start=d_start, &
                                           substeps=substeps)
@@ -265,29 +269,34 @@ contains
                 end if
                 block
                     real(dp), allocatable :: ddu(:, :), du_try(:, :), stress_try(:, :, :), &
-                                             f_try(:, :)
+                                             f_try(:, :), c(:, :, :, :), c_try(:, :, :, :)
                     real(dp) :: step, trial
                     integer :: halving
                     ! The consistent tangent: the derivative of the midpoint stress update
                     ! with respect to the strain increment at each point
                     ! (material_update_tangent); the correction for f_target - f_int(stress_end)
                     ! (the internal forces of the residual above).
+                    ! The tangent at du: the last full step's, when it was taken
+                    ! (update_and_tangents), else evaluated here.
+                    if (allocated(c_next)) then
+                        call move_alloc(c_next, c)
+                    else
+                        c = consistent_tangents(model, library, state, du, d_start, substeps)
+                    end if
                     if (state%has_contact .or. all_linear(model, state%active)) then
                         call factorise_at(model, library, state, stress_mid, system, result, &
-                                          context, error, consistent_tangents(model, library, &
-                                          state, du, d_start, substeps), contact)
+                                          context, error, c, contact)
                         if (allocated(error)) return
                         call solve_system(model, f_target - f_end, 0.0_dp*du_prescribed, &
                                           system, ddu, result, context, error, contact, du, &
                                           stalled)
                     else
-                        call newton_correction(model, library, state, stress_mid, &
-                                               consistent_tangents(model, library, state, du, &
-                                                                   d_start, substeps), &
+                        call newton_correction(model, library, state, stress_mid, c, &
                                                f_target - f_end, residual, &
                                                iteration == 1, system, ddu, result, &
                                                context, error)
                     end if
+                    deallocate (c)
                     if (allocated(error)) return
                     ! Backtracking line search: the E-B tangent has kinks (stress-level cap,
                     ! sigma3 floor, Poisson bounds, unloading transition) where a full
@@ -296,9 +305,15 @@ contains
                     step = 1.0_dp
                     do halving = 0, 6
                         du_try = du + step*ddu
-                        call integrate_stress(model, library, state, du_try, stress_try, &
-                                              stress_mid, .true., creep_share=1.0_dp, &
-                                              d_start=d_start, substeps=substeps)
+                        if (halving == 0) then
+                            ! The full step with its tangent, the next iteration's if taken
+                            call update_and_tangents(model, library, state, du_try, d_start, &
+                                                     substeps, stress_try, stress_mid, c_try)
+                        else
+                            call integrate_stress(model, library, state, du_try, stress_try, &
+                                                  stress_mid, .true., creep_share=1.0_dp, &
+                                                  d_start=d_start, substeps=substeps)
+                        end if
                         trial = out_of_balance(model, library, state%active, stress_try, &
                                                f_target, system%dofmap, contact, &
                                                roundoff=floor, force=f_try)/load_norm
@@ -309,6 +324,7 @@ contains
                     stress_end = stress_try
                     f_end = f_try
                     residual = trial
+                    if (halving == 0) call move_alloc(c_try, c_next)
                 end block
                 result%iterations = result%iterations + 1
                 result%newton_residuals = [result%newton_residuals, residual]
@@ -635,6 +651,44 @@ contains
         end do
         !$omp end parallel do
     end function consistent_tangents
+
+    !> Newton's stress update over du (integrate_stress with midpoint, creep_share 1,
+    !> d_start and substeps) and its consistent tangents (consistent_tangents) in one pass
+    !> over the points (material_update_with_tangent): the line search's full step, whose
+    !> tangent is the next iteration's when the step is taken.
+    subroutine update_and_tangents(model, library, state, du, d_start, substeps, stress_end, &
+                                   stress_mid, c)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        type(state_t), intent(in) :: state
+        real(dp), intent(in) :: du(:, :), d_start(:, :, :, :)
+        integer, intent(in) :: substeps(:, :)
+        real(dp), allocatable, intent(out) :: stress_end(:, :, :), stress_mid(:, :, :)
+        real(dp), allocatable, intent(out) :: c(:, :, :, :)
+        real(dp) :: strain(4, ngauss)
+        integer :: e, ng, ig
+        stress_end = state%stress
+        stress_mid = stress_end
+        allocate (c(4, 4, ngauss, model%mesh%nelem), source=0.0_dp)
+        !$omp parallel do schedule(dynamic, 32) private(strain, ng, ig) &
+        !$omp if (model%mesh%nelem >= min_parallel)
+        do e = 1, model%mesh%nelem
+            if (.not. state%active(e)) cycle
+            call element_strains(model, library, e, du, strain, ng)
+            do ig = 1, ng
+                call material_update_with_tangent(model%materials(model%mesh%material(e)), &
+                                                  model%pa, start_stress(state, ig, e), &
+                                                  state%strain(:, ig, e), &
+                                                  state%history(:, ig, e), strain(:, ig), &
+                                                  d_start(:, :, ig, e), substeps(ig, e), &
+                                                  stress_end(:, ig, e), stress_mid(:, ig, e), &
+                                                  c(:, :, ig, e))
+                if (allocated(state%creep_stress)) stress_end(:, ig, e) = &
+                    stress_end(:, ig, e) - 0.5_dp*state%creep_stress(:, ig, e)
+            end do
+        end do
+        !$omp end parallel do
+    end subroutine update_and_tangents
 
     !> The start tangents D(sigma) of the Newton iterations' stress updates, the same in
     !> every iteration, and the sub-steps of each point's update where one step would pass

@@ -17,6 +17,7 @@ module cfrd_material_law
     private
 
     public :: nhistory, material_tangent, material_update, material_update_tangent
+    public :: material_update_with_tangent
     public :: update_history, is_linear, all_linear, eb_parameters, goodman_parameters, stress_level
     public :: update_substeps, max_substeps
 
@@ -203,7 +204,7 @@ contains
             nsub = 1
             if (present(substeps)) nsub = substeps
             if (nsub > 1) then
-                c = substep_tangent(eb_parameters(mat, pa), stress, history(1), de, d0, nsub)
+                call substep_tangent(eb_parameters(mat, pa), stress, history(1), de, d0, nsub, c)
                 return
             end if
             mid = stress + 0.5_dp*matmul(d0, de)
@@ -242,11 +243,14 @@ contains
     !> sigma_k+1 = sigma_k + D(mid_k) h,
     !>     d mid_k = A_k + g(sigma_k, h/2) A_k + D(sigma_k)/(2n),
     !>     A_k+1 = A_k + g(mid_k, h) d mid_k + D(mid_k)/n       (docs/theory.md section 9).
-    pure function substep_tangent(p, stress, ss_max, de, d0, n) result(a)
+    !> `stress_new`, `stress_mid`: the update's own states (sigma_n, and the half-way stress
+    !> as material_update returns it), with D(s) from eb_response.
+    pure subroutine substep_tangent(p, stress, ss_max, de, d0, n, a, stress_new, stress_mid)
         type(eb_params_t), intent(in) :: p
         real(dp), intent(in) :: stress(4), ss_max, de(4), d0(4, 4)
         integer, intent(in) :: n
-        real(dp) :: a(4, 4)
+        real(dp), intent(out) :: a(4, 4)
+        real(dp), intent(out), optional :: stress_new(4), stress_mid(4)
         real(dp) :: h(4), s(4), mid(4), d(4, 4), g(4, 4), dmid(4, 4), dm(4, 4), gm(4, 4)
         integer :: k
         h = de/n
@@ -263,9 +267,37 @@ contains
             mid = s + 0.5_dp*matmul(d, h)
             call eb_response(p, mid, ss_max, h, dm, gm)
             a = a + matmul(gm, dmid) + dm/n
+            if (present(stress_mid) .and. 2*k - 1 == n) stress_mid = mid
             s = s + matmul(dm, h)
+            if (present(stress_mid) .and. 2*k == n) stress_mid = s
         end do
-    end function substep_tangent
+        if (present(stress_new)) stress_new = s
+    end subroutine substep_tangent
+
+    !> material_update (midpoint, `substeps` sub-steps, d_start) and material_update_tangent
+    !> of one point in one pass, for Newton's line search: stress_new, stress_mid and
+    !> c = d stress_new / d de. For the E-B law the update's states are those of the
+    !> tangent's recursion (substep_tangent, n >= 1), so the law is evaluated once per state
+    !> instead of once for the update and once for its derivative; its D(s) comes from
+    !> eb_moduli_gradient's moduli, which are eb_tangent's to round-off. The other laws
+    !> update as material_update does.
+    pure subroutine material_update_with_tangent(mat, pa, stress, strain, history, de, d_start, &
+                                                 substeps, stress_new, stress_mid, c)
+        type(material_t), intent(in) :: mat
+        real(dp), intent(in) :: pa, stress(4), strain(4), history(nhistory), de(4)
+        real(dp), intent(in) :: d_start(4, 4)
+        integer, intent(in) :: substeps
+        real(dp), intent(out) :: stress_new(4), stress_mid(4), c(4, 4)
+        if (mat%law == law_duncan_eb) then
+            call substep_tangent(eb_parameters(mat, pa), stress, history(1), de, d_start, &
+                                 max(1, substeps), c, stress_new, stress_mid)
+        else
+            call material_update(mat, pa, stress, strain, history, de, .true., stress_new, &
+                                 stress_mid, d_start, substeps)
+            call material_update_tangent(mat, pa, stress, strain, history, de, c, d_start, &
+                                         substeps)
+        end if
+    end subroutine material_update_with_tangent
 
     !> Sub-steps of the E-B midpoint update over de from `stress` under Newton (docs/theory.md
     !> section 9, "Sub-steps"): where one step of the midpoint rule would come near its
