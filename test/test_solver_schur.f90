@@ -47,7 +47,8 @@ contains
                 new_unittest('unsymmetric_k_goes_to_umfpack', test_unsymmetric), &
                 new_unittest('kept_k_taken_back', test_keep), &
                 new_unittest('gap_and_load_right_hand_sides', test_right_hand_sides), &
-                new_unittest('large_reduced_matrix_goes_to_umfpack', test_large) &
+                new_unittest('large_reduced_matrix_goes_to_umfpack', test_large), &
+                new_unittest('partial_solve_then_complete', test_partial) &
                 ]
     end subroutine collect_solver_schur
 
@@ -201,6 +202,63 @@ contains
         if (allocated(error)) return
         call check_against(error, x, exact(tied, bar_ea), what)
     end subroutine solve_two_bars
+
+    !> A partial solve (what an active-set iteration reads): the multipliers and the
+    !> coupled equations' displacements (A's last node, B's first and last) against the
+    !> closed form, the other displacements zero; `complete` then gives all of them, as the
+    !> whole solve does. Tied and held, CHOLMOD's path; under UMFPACK a partial solve is a
+    !> whole one and `complete` leaves it as it is.
+    subroutine test_partial(error)
+        type(error_t), allocatable, intent(out) :: error
+        integer, parameter :: coupled(3) = [n, n + 1, nu]
+        type(sparse_pattern_t) :: pattern
+        type(linear_solver_t), allocatable :: solver
+        real(dp), allocatable :: values(:), x(:), reference(:)
+        logical :: interior(nu)
+        integer :: round
+        character(len=24) :: what
+        interior = .true.
+        interior(coupled) = .false.
+        do round = 1, 3
+            what = merge('partial, tied   ', 'partial, held   ', round /= 2)
+            if (round == 3) what = 'partial, UMFPACK'
+            call two_bars(pattern, values, bar_ea, error)
+            if (allocated(error)) return
+            call rows(pattern, values, round /= 2, round == 2)
+            if (allocated(solver)) then
+                call solver%release()
+                deallocate (solver)
+            end if
+            allocate (solver)
+            call solver%configure(merge(linear_solver_umfpack, linear_solver_auto, round == 3), &
+                                  .false., multipliers=2)
+            call factorise(solver, pattern, values, error)
+            if (allocated(error)) return
+            reference = exact(round /= 2, bar_ea)
+            allocate (x(neq))
+            call solver%solve(pattern, values, loads(), x, error, partial=.true.)
+            if (allocated(error)) return
+            call check(error, maxval(abs(x(coupled) - reference(coupled)))/ &
+                       maxval(abs(reference(1:nu))) <= tolerance .and. &
+                       maxval(abs(x(nu + 1:) - reference(nu + 1:)))/ &
+                       maxval(abs(reference(nu + 1:))) <= tolerance, &
+                       trim(what)//': the coupled displacements and the multipliers')
+            if (allocated(error)) return
+            if (round < 3) then
+                call check(error, all(x(1:nu) == 0.0_dp .or. .not. interior), &
+                           trim(what)//': the other displacements are left for complete')
+            else
+                call check_against(error, x, reference, trim(what)//' (a whole solve)')
+            end if
+            if (allocated(error)) return
+            call solver%complete(x, error)
+            if (allocated(error)) return
+            call check_against(error, x, reference, trim(what)//', completed')
+            if (allocated(error)) return
+            deallocate (x)
+        end do
+        call solver%release()
+    end subroutine test_partial
 
     !> Tie, then hold, then tie again: the same K, new rows, each an update of R alone.
     subroutine test_update(error)

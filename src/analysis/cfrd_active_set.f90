@@ -91,7 +91,10 @@ contains
                 end do
             end if
             t0 = wall_seconds()
-            call system%solver%solve(system%pattern, system%values, b, x, error)
+            ! With contact, the multipliers and the contact surfaces' displacements first:
+            ! the rest once the active set has settled (complete, below).
+            call system%solver%solve(system%pattern, system%values, b, x, error, &
+                                     partial=present(contact))
             result%stats%t_solve = result%stats%t_solve + (wall_seconds() - t0)
             if (allocated(error) .and. system%solver%is_updated()) then
                 ! An updated solve that did not reach UMFPACK's accuracy: factorise instead.
@@ -100,7 +103,8 @@ contains
                 call factorise_contact(model, system, contact, result, context, error, .false.)
                 if (allocated(error)) return
                 t0 = wall_seconds()
-                call system%solver%solve(system%pattern, system%values, b, x, error)
+                call system%solver%solve(system%pattern, system%values, b, x, error, &
+                                         partial=present(contact))
                 result%stats%t_solve = result%stats%t_solve + (wall_seconds() - t0)
             end if
             if (allocated(error)) then
@@ -112,20 +116,32 @@ contains
                                  'stiffness matrix?)', numerical_error)
                 return
             end if
-            du = du_p
-            do node = 1, model%mesh%nnode
-                do k = 1, 2
-                    if (system%dofmap%eq(k, node) > 0) du(k, node) = x(system%dofmap%eq(k, node))
-                end do
-            end do
+            call unpack_displacements()
             if (.not. present(contact)) exit
-            ! The active set: done when the solve left it as it was.
+            ! The active set: done when the solve left it as it was. Its test reads the
+            ! contact surfaces' motion (weighted_motion) and the multipliers only.
             t0 = wall_seconds()
             call contact_unpack(contact, x(neq + 1:), system%contact_scale)
             before = 3*contact%status + contact%slip_sign
             call update_sets()
             result%stats%t_contact = result%stats%t_contact + (wall_seconds() - t0)
             result%stats%contact_iterations = result%stats%contact_iterations + 1
+            if (.not. changed) then
+                ! Settled (or about to be held or reshaped): the whole solution
+                t0 = wall_seconds()
+                call system%solver%complete(x, error)
+                result%stats%t_solve = result%stats%t_solve + (wall_seconds() - t0)
+                if (allocated(error)) then
+                    error%message = context//': '//error%message
+                    return
+                end if
+                if (.not. all(ieee_is_finite(x))) then
+                    call fatal_error(error, context//': the solution is not finite '// &
+                                     '(singular stiffness matrix?)', numerical_error)
+                    return
+                end if
+                call unpack_displacements()
+            end if
             if (.not. changed .and. any(held)) then
                 ! Held nodes: accepted when their tractions break stick by little; else
                 ! released once, the iteration going on as without holds.
@@ -194,6 +210,16 @@ contains
             if (allocated(error)) return
         end do
     contains
+        !> du: the prescribed increment and the solved equations of x
+        subroutine unpack_displacements()
+            du = du_p
+            do node = 1, model%mesh%nnode
+                do k = 1, 2
+                    if (system%dofmap%eq(k, node) > 0) du(k, node) = x(system%dofmap%eq(k, node))
+                end do
+            end do
+        end subroutine unpack_displacements
+
         !> The friction groups' shear shapes from the pressures of this solve: true (and the
         !> new shapes kept, to be solved with) when one moved by more than shape_tolerance,
         !> at most shape_passes times per solve (docs/theory.md section 14).

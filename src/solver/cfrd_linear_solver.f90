@@ -67,6 +67,7 @@ module cfrd_linear_solver
         procedure :: factorise
         procedure :: update_rows
         procedure :: solve
+        procedure :: complete
         procedure :: rcond
         procedure :: factor_nonzeros
         procedure :: is_updated
@@ -264,20 +265,31 @@ contains
     end subroutine update_rows
 
     !> x = A^-1 b with the kept factorisation (or UMFPACK's updated one).
-    subroutine solve(self, pattern, values, b, x, error)
+    subroutine solve(self, pattern, values, b, x, error, partial)
         class(linear_solver_t), intent(inout) :: self
         type(sparse_pattern_t), intent(in) :: pattern
         real(dp), intent(in) :: values(:), b(:)
         real(dp), intent(out) :: x(:)
         type(error_t), allocatable, intent(out) :: error
+        !> a contact system: the multipliers and the contact surfaces' displacements may
+        !> come alone (cfrd_schur), the rest by `complete`
+        logical, intent(in), optional :: partial
         if (self%schur_factorised) then
-            call self%sc%solve(b, x, error)
+            call self%sc%solve(b, x, error, partial)
         else if (self%llt_factorised) then
             call self%llt%solve(b, x, error)
         else
             call self%lu%solve(pattern, values, b, x, error)
         end if
     end subroutine solve
+
+    !> The displacements the last solve left out, when it was partial (cfrd_schur).
+    subroutine complete(self, x, error)
+        class(linear_solver_t), intent(inout) :: self
+        real(dp), intent(inout) :: x(:)
+        type(error_t), allocatable, intent(out) :: error
+        if (self%schur_factorised) call self%sc%complete(x, error)
+    end subroutine complete
 
     !> The reciprocal condition estimate of the kept factorisation's library.
     real(dp) function rcond(self)

@@ -59,6 +59,7 @@ module cfrd_schur
         integer, allocatable :: shift_at(:)   !! K entries on G's diagonal
         integer, allocatable :: r_from(:), r_to(:)   !! A's entries of R, their place in R
         logical, allocatable :: last(:)       !! G: the equations CHOLMOD orders last
+        integer, allocatable :: g_eq(:)       !! G's equations in the factor's order
         logical :: analysed = .false.
         type(k_factor_t) :: k, spare
         real(dp), allocatable :: lu(:)        !! R's LU (ng + nl)^2, column-major
@@ -67,6 +68,8 @@ module cfrd_schur
         !> The last forward half and its right-hand side: the active-set iterations of one
         !> solve change the multipliers' right-hand side only (cfrd_active_set)
         real(dp), allocatable :: b_last(:), z_last(:)
+        !> A partial solve's right-hand side of the backward half, until `complete`
+        real(dp), allocatable :: z_part(:)
         logical :: factorised = .false.
     contains
         procedure :: analyse
@@ -75,6 +78,7 @@ module cfrd_schur
         procedure :: update
         procedure :: same_k
         procedure :: solve
+        procedure :: complete
         procedure :: rcond
         procedure :: factor_nonzeros
         procedure :: keep
@@ -147,6 +151,7 @@ contains
         do k = nu - self%ng + 1, nu
             place(perm(k)) = k - (nu - self%ng)
         end do
+        self%g_eq = perm(nu - self%ng + 1:nu)
         if (count(place > 0 .and. coupled) /= self%ng) then
             call fatal_error(error, 'internal: CHOLMOD did not order the coupled equations last', &
                              numerical_error)
@@ -253,6 +258,7 @@ contains
         integer :: m, i, info
         real(dp) :: u
         self%factorised = .false.
+        if (allocated(self%z_part)) deallocate (self%z_part)
         if (.not. self%k%factorised) then
             call fatal_error(error, 'internal: Schur update without a factorisation of K', &
                              numerical_error)
@@ -295,12 +301,16 @@ contains
         same_k = all(values(self%k_from) == self%k%kbase)
     end function same_k
 
-    !> x = A^-1 b.
-    subroutine solve(self, b, x, error)
+    !> x = A^-1 b. G's displacements are those of R's solve (the backward half gives them
+    !> again to round-off only). `partial`: the multipliers and G's displacements alone, the
+    !> others zero until `complete` (what an active-set iteration reads: the contact
+    !> surfaces' motion and tractions; docs/theory.md section 6).
+    subroutine solve(self, b, x, error, partial)
         class(schur_t), intent(inout) :: self
         real(dp), intent(in) :: b(:)
         real(dp), intent(out) :: x(:)
         type(error_t), allocatable, intent(out) :: error
+        logical, intent(in), optional :: partial
         real(dp), allocatable :: z(:), y(:)
         integer :: nu, ng, n0, m, info
         if (.not. self%factorised) then
@@ -334,10 +344,35 @@ contains
         ! G's displacements back into the factor's order: z_G = L_GG^T du_G
         z(n0 + 1:nu) = y(1:ng)
         if (ng > 0) call dtrmv('L', 'T', 'N', ng, self%k%g, ng, z(n0 + 1:nu), 1)
+        x(nu + 1:nu + self%nl) = y(ng + 1:m)
+        if (allocated(self%z_part)) deallocate (self%z_part)
+        if (present(partial)) then
+            if (partial) then
+                x(1:nu) = 0.0_dp
+                x(self%g_eq) = y(1:ng)
+                call move_alloc(z, self%z_part)
+                return
+            end if
+        end if
         call self%k%llt%backward(z, x(1:nu), error)
         if (allocated(error)) return
-        x(nu + 1:nu + self%nl) = y(ng + 1:m)
+        x(self%g_eq) = y(1:ng)
     end subroutine solve
+
+    !> The displacements a partial solve left out (the backward half of that solve), into
+    !> x as the partial solve returned it; nothing when the last solve was whole.
+    subroutine complete(self, x, error)
+        class(schur_t), intent(inout) :: self
+        real(dp), intent(inout) :: x(:)
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), allocatable :: xg(:)
+        if (.not. allocated(self%z_part)) return
+        xg = x(self%g_eq)
+        call self%k%llt%backward(self%z_part, x(1:self%nu), error)
+        deallocate (self%z_part)
+        if (allocated(error)) return
+        x(self%g_eq) = xg
+    end subroutine complete
 
     !> The reciprocal condition estimate: the smallest over the largest pivot, of K's
     !> columns before G (L_jj^2) and of R (|U_ii|); 0 before a factorisation.
@@ -369,6 +404,7 @@ contains
         self%k%factorised = .false.
         self%factorised = .false.
         if (allocated(self%b_last)) deallocate (self%b_last, self%z_last)
+        if (allocated(self%z_part)) deallocate (self%z_part)
     end subroutine keep
 
     !> Exchange two factorisations of K (their CHOLMOD objects too), freeing neither.
@@ -405,6 +441,8 @@ contains
         if (allocated(self%k_from)) deallocate (self%k_from)
         if (allocated(self%shift_at)) deallocate (self%shift_at)
         if (allocated(self%last)) deallocate (self%last)
+        if (allocated(self%g_eq)) deallocate (self%g_eq)
+        if (allocated(self%z_part)) deallocate (self%z_part)
         if (allocated(self%r_from)) deallocate (self%r_from, self%r_to)
         if (allocated(self%lu)) deallocate (self%lu, self%ipiv)
         if (allocated(self%b_last)) deallocate (self%b_last, self%z_last)
