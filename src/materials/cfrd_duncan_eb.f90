@@ -186,21 +186,25 @@ contains
     pure real(dp) function eb_substeps(p, stress, ss_max, trial, reach) result(n)
         type(eb_params_t), intent(in) :: p
         real(dp), intent(in) :: stress(4), ss_max, trial(4), reach
-        real(dp) :: sigma1, sigma3, s0, rise, ss0, ss1, root4, et_top, eur
+        real(dp) :: sigma1, sigma3, t, s0, trial1, trial3, trial_level, rise, ss0, ss1, root4
+        real(dp) :: et_top, eur
+        ! each stress's principal values and strength once (one logarithm each)
         call eb_principal(stress, sigma1, sigma3)
-        s0 = stress_level(p, sigma1, sigma3)
-        call eb_principal(trial, sigma1, sigma3)
-        rise = max((sigma1 - sigma3)/eb_failure_deviator(p, sigma3), 0.0_dp) - s0
+        t = log_ratio(p, sigma3)
+        s0 = (sigma1 - sigma3)/failure_deviator(p, max(sigma3, p%sigma3_floor), t)
+        s0 = min(max(s0, 0.0_dp), p%level_cap)
+        call eb_principal(trial, trial1, trial3)
+        trial_level = (trial1 - trial3)/eb_failure_deviator(p, trial3)
+        rise = max(trial_level, 0.0_dp) - s0
         n = max(p%rf*rise/(2.0_dp*reach*(1.0_dp - p%rf*s0)), 0.0_dp)
         if (ss_max <= ss_threshold) return
-        ss0 = eb_stress_state(p, stress)
-        ss1 = eb_stress_state(p, trial)
-        if (ss0 >= ss_max .or. ss1 <= (1.0_dp - transition)*ss_max) return
-        call eb_principal(stress, sigma1, sigma3)
         root4 = sqrt(sqrt(max(sigma3, p%sigma3_floor)/p%pa))
-        et_top = eb_initial_modulus(p, sigma3)* &
-                 (1.0_dp - p%rf*min(ss_max/root4, p%level_cap))**2
-        eur = eb_unload_modulus(p, sigma3)
+        ss0 = s0*root4
+        ss1 = min(max(trial_level, 0.0_dp), p%level_cap)* &
+              sqrt(sqrt(max(trial3, p%sigma3_floor)/p%pa))
+        if (ss0 >= ss_max .or. ss1 <= (1.0_dp - transition)*ss_max) return
+        et_top = p%k*p%pa*exp(p%n*t)*(1.0_dp - p%rf*min(ss_max/root4, p%level_cap))**2
+        eur = p%kur*p%pa*exp(p%n*t)
         if (eur <= et_top) return
         n = max(n, (eur - et_top)*(ss1 - ss0)/(2.0_dp*transition*ss_max*et_top)/ &
                    (3.0_dp*reach))
