@@ -49,11 +49,16 @@ contains
         real(dp), allocatable, intent(out) :: radius(:)
         type(singular_radius_t), allocatable, intent(out) :: why(:)
         logical, allocatable :: in_slab(:), in_plinth(:), near(:), on_slab(:)
+        real(dp), allocatable :: centres(:, :)
         real(dp) :: c(2)
         integer :: e, k, b, j
         associate (mesh => model%mesh)
             allocate (in_slab(mesh%nelem), in_plinth(mesh%nelem), near(mesh%nelem), &
-                      on_slab(mesh%nnode))
+                      on_slab(mesh%nnode), centres(2, mesh%nelem))
+            ! each element's centroid (the mean of its nodes), once for the searches below
+            do e = 1, mesh%nelem
+                centres(:, e) = sum(mesh%x(:, mesh%conn(:, e)), dim=2)/size(mesh%conn, 1)
+            end do
             in_plinth = .false.
             do e = 1, mesh%nelem
                 in_slab(e) = solid(e) .and. any(model%slab_groups == mesh%group(e))
@@ -70,14 +75,13 @@ contains
             do k = 1, size(nodes)
                 why(k)%thickness = thickness_at(slab, mesh%x(:, nodes(k)))
                 call end_disturbance(model, principal, active, solid, in_slab, in_plinth, &
-                                     nodes(k), why(k))
+                                     centres, nodes(k), why(k))
                 radius(k) = max(radius_in_thicknesses*why(k)%thickness, why(k)%decay)
             end do
             near = .false.
             do e = 1, mesh%nelem
-                c = sum(mesh%x(:, mesh%conn(:, e)), dim=2)/size(mesh%conn, 1)
                 do k = 1, size(nodes)
-                    if (norm2(c - mesh%x(:, nodes(k))) < radius(k)) near(e) = .true.
+                    if (norm2(centres(:, e) - mesh%x(:, nodes(k))) < radius(k)) near(e) = .true.
                 end do
             end do
             allocate (extremes(merge(3, 2, any(in_plinth))))
@@ -164,10 +168,12 @@ contains
     !> with the nearest active interface element in series (a Goodman joint 1 / kn in
     !> compression, a thin layer t / M, M its constrained modulus). Nothing found (or a slab
     !> not elastic): decay 0.
-    subroutine end_disturbance(model, principal, active, solid, in_slab, in_plinth, node, why)
+    subroutine end_disturbance(model, principal, active, solid, in_slab, in_plinth, centres, &
+                               node, why)
         type(model_t), intent(in) :: model
         real(dp), intent(in) :: principal(:, :)
         logical, intent(in) :: active(:), solid(:), in_slab(:), in_plinth(:)
+        real(dp), intent(in) :: centres(:, :)    !! (2, nelem) the elements' centroids
         integer, intent(in) :: node
         type(singular_radius_t), intent(inout) :: why
         real(dp) :: e_slab, nu_slab, es, nus, compliance, d, best
@@ -189,7 +195,7 @@ contains
             best = huge(1.0_dp)
             do e = 1, mesh%nelem
                 if (.not. (active(e) .and. solid(e)) .or. in_slab(e) .or. in_plinth(e)) cycle
-                d = norm2(centroid(e) - mesh%x(:, node))
+                d = norm2(centres(:, e) - mesh%x(:, node))
                 if (d < best) then
                     best = d
                     why%support = e
@@ -215,7 +221,7 @@ contains
             if (allocated(model%interfaces)) then
                 do e = 1, size(model%interfaces)
                     if (.not. active(model%interfaces(e)%element)) cycle
-                    d = norm2(centroid(model%interfaces(e)%element) - mesh%x(:, node))
+                    d = norm2(centres(:, model%interfaces(e)%element) - mesh%x(:, node))
                     if (d < best) then
                         best = d
                         joint = e
@@ -227,12 +233,6 @@ contains
             call decay_radius(why%thickness, e_slab, nu_slab, es, nus, compliance, why%decay, &
                               why%modulus)
         end associate
-    contains
-        function centroid(el) result(c)
-            integer, intent(in) :: el
-            real(dp) :: c(2)
-            c = sum(model%mesh%x(:, model%mesh%conn(:, el)), dim=2)/size(model%mesh%conn, 1)
-        end function centroid
     end subroutine end_disturbance
 
     !> The compliance (m/kPa) of interface element `el` across its line: a Goodman joint's
