@@ -90,32 +90,18 @@ contains
                         system%contact_scale, known, system%viscous, system%constrains)
                 end do
             end if
-            t0 = wall_seconds()
             ! With contact, the multipliers and the contact surfaces' displacements first:
             ! the rest once the active set has settled (complete, below).
-            call system%solver%solve(system%pattern, system%values, b, x, error, &
-                                     partial=present(contact))
-            result%stats%t_solve = result%stats%t_solve + (wall_seconds() - t0)
+            call timed_solve(.false.)
             if (allocated(error) .and. system%solver%is_updated()) then
                 ! An updated solve that did not reach UMFPACK's accuracy: factorise instead.
                 deallocate (error)
                 result%stats%updates_declined = result%stats%updates_declined + 1
                 call factorise_contact(model, system, contact, result, context, error, .false.)
                 if (allocated(error)) return
-                t0 = wall_seconds()
-                call system%solver%solve(system%pattern, system%values, b, x, error, &
-                                         partial=present(contact))
-                result%stats%t_solve = result%stats%t_solve + (wall_seconds() - t0)
+                call timed_solve(.false.)
             end if
-            if (allocated(error)) then
-                error%message = context//': '//error%message
-                return
-            end if
-            if (.not. all(ieee_is_finite(x))) then
-                call fatal_error(error, context//': the solution is not finite (singular '// &
-                                 'stiffness matrix?)', numerical_error)
-                return
-            end if
+            if (.not. solved()) return
             call unpack_displacements()
             if (.not. present(contact)) exit
             ! The active set: done when the solve left it as it was. Its test reads the
@@ -128,18 +114,8 @@ contains
             result%stats%contact_iterations = result%stats%contact_iterations + 1
             if (.not. changed) then
                 ! Settled (or about to be held or reshaped): the whole solution
-                t0 = wall_seconds()
-                call system%solver%complete(x, error)
-                result%stats%t_solve = result%stats%t_solve + (wall_seconds() - t0)
-                if (allocated(error)) then
-                    error%message = context//': '//error%message
-                    return
-                end if
-                if (.not. all(ieee_is_finite(x))) then
-                    call fatal_error(error, context//': the solution is not finite '// &
-                                     '(singular stiffness matrix?)', numerical_error)
-                    return
-                end if
+                call timed_solve(.true.)
+                if (.not. solved()) return
                 call unpack_displacements()
             end if
             if (.not. changed .and. any(held)) then
@@ -210,6 +186,36 @@ contains
             if (allocated(error)) return
         end do
     contains
+        !> x for b, partial with contact (`completing` false), or the rest of the last
+        !> partial solve (true); its time counted as the solve's.
+        subroutine timed_solve(completing)
+            logical, intent(in) :: completing
+            real(dp) :: t
+            t = wall_seconds()
+            if (completing) then
+                call system%solver%complete(x, error)
+            else
+                call system%solver%solve(system%pattern, system%values, b, x, error, &
+                                         partial=present(contact))
+            end if
+            result%stats%t_solve = result%stats%t_solve + (wall_seconds() - t)
+        end subroutine timed_solve
+
+        !> The solve succeeded and x is finite; else `error` says which, in its context.
+        logical function solved()
+            solved = .false.
+            if (allocated(error)) then
+                error%message = context//': '//error%message
+                return
+            end if
+            if (.not. all(ieee_is_finite(x))) then
+                call fatal_error(error, context//': the solution is not finite (singular '// &
+                                 'stiffness matrix?)', numerical_error)
+                return
+            end if
+            solved = .true.
+        end function solved
+
         !> du: the prescribed increment and the solved equations of x
         subroutine unpack_displacements()
             du = du_p

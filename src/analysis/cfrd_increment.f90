@@ -123,7 +123,7 @@ contains
         real(dp), allocatable :: rhs_stress(:, :, :), d_start(:, :, :, :), f_end(:, :)
         real(dp), allocatable :: d_here(:, :, :, :)
         integer, allocatable :: substeps(:, :), grown(:, :)
-        !> the consistent tangents of the last full Newton step taken (update_and_tangents)
+        !> the consistent tangents of the last full Newton step taken (consistent_tangents)
         real(dp), allocatable :: c_next(:, :, :, :)
         integer :: iteration
         type(contact_t), allocatable :: contact
@@ -277,11 +277,11 @@ contains
                     ! (material_update_tangent); the correction for f_target - f_int(stress_end)
                     ! (the internal forces of the residual above).
                     ! The tangent at du: the last full step's, when it was taken
-                    ! (update_and_tangents), else evaluated here.
+                    ! (consistent_tangents with the update), else evaluated here.
                     if (allocated(c_next)) then
                         call move_alloc(c_next, c)
                     else
-                        c = consistent_tangents(model, library, state, du, d_start, substeps)
+                        call consistent_tangents(model, library, state, du, d_start, substeps, c)
                     end if
                     if (state%has_contact .or. all_linear(model, state%active)) then
                         call factorise_at(model, library, state, stress_mid, system, result, &
@@ -307,8 +307,8 @@ contains
                         du_try = du + step*ddu
                         if (halving == 0) then
                             ! The full step with its tangent, the next iteration's if taken
-                            call update_and_tangents(model, library, state, du_try, d_start, &
-                                                     substeps, stress_try, stress_mid, c_try)
+                            call consistent_tangents(model, library, state, du_try, d_start, &
+                                                     substeps, c_try, stress_try, stress_mid)
                         else
                             call integrate_stress(model, library, state, du_try, stress_try, &
                                                   stress_mid, .true., creep_share=1.0_dp, &
@@ -625,50 +625,28 @@ contains
 
     !> d sigma_end / d(delta eps) of the stress update at every point of the active elements
     !> (cfrd_material_law: material_update_tangent), Newton's tangent, from the start
-    !> stresses and their tangents d_start (start_tangents).
-    function consistent_tangents(model, library, state, du, d_start, substeps) result(c)
+    !> stresses and their tangents d_start (start_tangents). With `stress_end` and
+    !> `stress_mid`: the update over du itself too (integrate_stress with midpoint,
+    !> creep_share 1, d_start and substeps), in the same pass over the points
+    !> (material_update_with_tangent): the line search's full step, whose tangent is the next
+    !> iteration's when the step is taken.
+    subroutine consistent_tangents(model, library, state, du, d_start, substeps, c, &
+                                   stress_end, stress_mid)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(in) :: state
         real(dp), intent(in) :: du(:, :), d_start(:, :, :, :)
         integer, intent(in) :: substeps(:, :)
-        real(dp), allocatable :: c(:, :, :, :)
-        real(dp) :: strain(4, ngauss)
-        integer :: e, ng, ig
-        allocate (c(4, 4, ngauss, model%mesh%nelem), source=0.0_dp)
-        !$omp parallel do schedule(dynamic, 32) private(strain, ng, ig) &
-        !$omp if (model%mesh%nelem >= min_parallel)
-        do e = 1, model%mesh%nelem
-            if (.not. state%active(e)) cycle
-            call element_strains(model, library, e, du, strain, ng)
-            do ig = 1, ng
-                call material_update_tangent(model%materials(model%mesh%material(e)), &
-                                             model%pa, start_stress(state, ig, e), &
-                                             state%strain(:, ig, e), state%history(:, ig, e), &
-                                             strain(:, ig), c(:, :, ig, e), d_start(:, :, ig, e), &
-                                             substeps(ig, e))
-            end do
-        end do
-        !$omp end parallel do
-    end function consistent_tangents
-
-    !> Newton's stress update over du (integrate_stress with midpoint, creep_share 1,
-    !> d_start and substeps) and its consistent tangents (consistent_tangents) in one pass
-    !> over the points (material_update_with_tangent): the line search's full step, whose
-    !> tangent is the next iteration's when the step is taken.
-    subroutine update_and_tangents(model, library, state, du, d_start, substeps, stress_end, &
-                                   stress_mid, c)
-        type(model_t), intent(in) :: model
-        type(element_box_t), intent(in) :: library(:)
-        type(state_t), intent(in) :: state
-        real(dp), intent(in) :: du(:, :), d_start(:, :, :, :)
-        integer, intent(in) :: substeps(:, :)
-        real(dp), allocatable, intent(out) :: stress_end(:, :, :), stress_mid(:, :, :)
         real(dp), allocatable, intent(out) :: c(:, :, :, :)
+        real(dp), allocatable, intent(out), optional :: stress_end(:, :, :), stress_mid(:, :, :)
         real(dp) :: strain(4, ngauss)
         integer :: e, ng, ig
-        stress_end = state%stress
-        stress_mid = stress_end
+        logical :: update
+        update = present(stress_end) .and. present(stress_mid)
+        if (update) then
+            stress_end = state%stress
+            stress_mid = stress_end
+        end if
         allocate (c(4, 4, ngauss, model%mesh%nelem), source=0.0_dp)
         !$omp parallel do schedule(dynamic, 32) private(strain, ng, ig) &
         !$omp if (model%mesh%nelem >= min_parallel)
@@ -676,19 +654,28 @@ contains
             if (.not. state%active(e)) cycle
             call element_strains(model, library, e, du, strain, ng)
             do ig = 1, ng
-                call material_update_with_tangent(model%materials(model%mesh%material(e)), &
-                                                  model%pa, start_stress(state, ig, e), &
-                                                  state%strain(:, ig, e), &
-                                                  state%history(:, ig, e), strain(:, ig), &
-                                                  d_start(:, :, ig, e), substeps(ig, e), &
-                                                  stress_end(:, ig, e), stress_mid(:, ig, e), &
-                                                  c(:, :, ig, e))
+                associate (mat => model%materials(model%mesh%material(e)))
+                    if (.not. update) then
+                        call material_update_tangent(mat, model%pa, start_stress(state, ig, e), &
+                                                     state%strain(:, ig, e), &
+                                                     state%history(:, ig, e), strain(:, ig), &
+                                                     c(:, :, ig, e), d_start(:, :, ig, e), &
+                                                     substeps(ig, e))
+                        cycle
+                    end if
+                    call material_update_with_tangent(mat, model%pa, start_stress(state, ig, e), &
+                                                      state%strain(:, ig, e), &
+                                                      state%history(:, ig, e), strain(:, ig), &
+                                                      d_start(:, :, ig, e), substeps(ig, e), &
+                                                      stress_end(:, ig, e), &
+                                                      stress_mid(:, ig, e), c(:, :, ig, e))
+                end associate
                 if (allocated(state%creep_stress)) stress_end(:, ig, e) = &
                     stress_end(:, ig, e) - 0.5_dp*state%creep_stress(:, ig, e)
             end do
         end do
         !$omp end parallel do
-    end subroutine update_and_tangents
+    end subroutine consistent_tangents
 
     !> The start tangents D(sigma) of the Newton iterations' stress updates, the same in
     !> every iteration, and the sub-steps of each point's update where one step would pass

@@ -52,8 +52,6 @@ static void free_factor(cfrd_cholmod_t *h)
     if (h->b) cholmod_free_dense(&h->b, &h->common);
 }
 
-/* Symbolic analysis (ordering, supernodes) of the pattern ap, ai (n columns); replaces an
- * earlier one. Returns CHOLMOD's status (0 ok, negative an error). */
 /* The pattern ap, ai (n columns, values 0) as the handle's matrix, replacing an earlier
  * analysis. Returns CHOLMOD's status. */
 static int load_pattern(cfrd_cholmod_t *h, int n, const int *ap, const int *ai)
@@ -70,6 +68,8 @@ static int load_pattern(cfrd_cholmod_t *h, int n, const int *ap, const int *ai)
     return CHOLMOD_OK;
 }
 
+/* Symbolic analysis (ordering, supernodes) of the pattern ap, ai (n columns); replaces an
+ * earlier one. Returns CHOLMOD's status (0 ok, negative an error). */
 int cfrd_cholmod_analyse(void *handle, int n, const int *ap, const int *ai)
 {
     cfrd_cholmod_t *h = handle;
