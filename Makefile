@@ -151,19 +151,24 @@ bench: build
 ## floor: numeric factorisation of UMFPACK against CHOLMOD supernodal (AMD, METIS, NESDIS) on
 ## the matrix cfrd factorises first in the last stage of the x4 bonded, joint and thin decks,
 ## best of 5, one BLAS thread (make floor [MTX=FILE.mtx] for one matrix; docs/performance.md
-## (k); about 2 min)
+## (k); about 2 min). The libraries run as in cfrd: CHOLMOD's OpenMP loops on the calling
+## thread (its compiled-in team of 4 otherwise spins on 2 cores: 3 times the time) and no
+## mmap for the large blocks (cfrd_memory), so that each factorisation reuses warm pages
+## (docs/performance.md (aj))
 FLOOR_STAGE ?= 45
+FLOOR_ENV = OPENBLAS_NUM_THREADS=1 OMP_MAX_ACTIVE_LEVELS=0 \
+  GLIBC_TUNABLES=glibc.malloc.mmap_max=0:glibc.malloc.trim_threshold=1073741824
 build/floor/factor_floor: tools/factor_floor.c
 	@mkdir -p build/floor
 	@gcc -O2 -Wall -o $@ $< -lcholmod -lumfpack -lsuitesparseconfig -lm
 floor: build build/floor/factor_floor
-	@if [ -n "$(MTX)" ]; then OPENBLAS_NUM_THREADS=1 build/floor/factor_floor $(MTX); else \
+	@if [ -n "$(MTX)" ]; then $(FLOOR_ENV) build/floor/factor_floor $(MTX); else \
 	  for i in bonded joint thin; do \
 	    python3 tools/tianshengqiao.py --refine 4 --interface $$i --deck build/floor/x4-$$i.dat \
 	      >/dev/null && \
 	    CFRD_WRITE_MATRIX=build/floor/x4-$$i.mtx CFRD_WRITE_MATRIX_STAGE=$(FLOOR_STAGE) \
 	      bin/cfrd --quiet --compress 0 --out build/floor build/floor/x4-$$i.dat && \
-	    OPENBLAS_NUM_THREADS=1 build/floor/factor_floor build/floor/x4-$$i.mtx || exit 1; \
+	    $(FLOOR_ENV) build/floor/factor_floor build/floor/x4-$$i.mtx || exit 1; \
 	  done; fi
 
 ## accuracy: error against wall time of the Tianshengqiao-I decks, one knob at a time;

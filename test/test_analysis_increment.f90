@@ -10,7 +10,8 @@ module test_analysis_increment
     use cfrd_model, only: model_t, contact_pair_t, scheme_mortar
     use cfrd_results, only: stage_result_t
     use cfrd_material_law, only: nhistory
-    use cfrd_assembly, only: element_box_t, make_elements, assemble_tangent
+    use cfrd_assembly, only: element_box_t, make_elements, assemble_tangent, force_memo_t, &
+                             remembered_forces, remember_forces
     use cfrd_contact, only: new_contact, contact_geometry
     use cfrd_linear_system, only: system_t, new_system, factorise_values
     use cfrd_stage_state, only: state_t, ngauss
@@ -32,7 +33,8 @@ contains
                 new_unittest('linear_system_against_dense_lapack', test_linear_system), &
                 new_unittest('increment_uniaxial_plane_strain', test_uniaxial), &
                 new_unittest('active_set_block_on_foundation', test_pressed_block), &
-                new_unittest('newton_stall_rule', test_newton_stall) &
+                new_unittest('newton_stall_rule', test_newton_stall), &
+                new_unittest('forces_remembered', test_forces_remembered) &
                 ]
     end subroutine collect_analysis_increment
 
@@ -156,6 +158,62 @@ contains
                    abs=1.0e-12_dp*maxval(abs(reference)))
         call system%solver%release()
     end subroutine test_linear_system
+
+    !> The internal forces kept between increments (cfrd_assembly: remembered_forces) on a
+    !> 2 x 1 grid of unit squares under uniform stress, against the closed form
+    !> f_i = integral of B_i^T sigma = sigma . (integral of grad N_i) over each element, the
+    !> integral of grad N_i over a unit square being (+-1/2, +-1/2) at its corners: the
+    !> forces of the kept stresses are given back bit for bit, and changed stresses, or an
+    !> element made inactive, are computed again.
+    subroutine test_forces_remembered(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(model_t) :: model
+        type(element_box_t), allocatable :: library(:)
+        type(force_memo_t) :: memo
+        real(dp), allocatable :: x(:, :), stress(:, :, :), f(:, :), f_again(:, :)
+        integer, allocatable :: conn(:, :)
+        logical :: active(2)
+        real(dp), parameter :: sxx = -120.0_dp, syy = -300.0_dp, sxy = 45.0_dp
+        call grid(2, 1, 0.0_dp, 0.0_dp, 0, x, conn)
+        call new_model(model, x, conn, [1, 1], [elastic_material(young, nu, 0.0_dp)])
+        call make_elements(model, library, error)
+        if (allocated(error)) return
+        allocate (stress(4, ngauss, 2), f(2, 6), f_again(2, 6))
+        stress = spread(spread([sxx, syy, -nu*(sxx + syy), sxy], 2, ngauss), 3, 2)
+        active = .true.
+        call remembered_forces(model, library, active, stress, f, memo)
+        ! node 1 (0, 0): a corner of element 1 only; node 2 (1, 0): shared, whose x-parts cancel
+        call check(error, f(1, 1), -0.5_dp*(sxx + sxy), 'f_x at node 1', rel=1.0e-12_dp)
+        if (allocated(error)) return
+        call check(error, f(2, 1), -0.5_dp*(sxy + syy), 'f_y at node 1', rel=1.0e-12_dp)
+        if (allocated(error)) return
+        call check(error, f(1, 2), -sxy, 'f_x at node 2', rel=1.0e-12_dp)
+        if (allocated(error)) return
+        call check(error, f(2, 2), -syy, 'f_y at node 2', rel=1.0e-12_dp)
+        if (allocated(error)) return
+        ! the same stresses: the kept forces, the same bits
+        call remembered_forces(model, library, active, stress, f_again, memo)
+        if (any(f_again /= f)) then
+            call fail(error, 'kept forces differ from those computed')
+            return
+        end if
+        ! sigma_yy of element 2 doubled: computed again
+        stress(2, :, 2) = 2.0_dp*syy
+        call remembered_forces(model, library, active, stress, f_again, memo)
+        call check(error, f_again(2, 3), 0.5_dp*sxy - syy, 'f_y at node 3 after the change', &
+                   rel=1.0e-12_dp)
+        if (allocated(error)) return
+        ! element 2 inactive: nodes 3 and 6 carry nothing
+        active(2) = .false.
+        call remembered_forces(model, library, active, stress, f_again, memo)
+        call check(error, maxval(abs(f_again(:, [3, 6]))), 0.0_dp, 'forces of element 2 off', &
+                   abs=0.0_dp)
+        if (allocated(error)) return
+        ! forces kept from elsewhere (remember_forces) are those given back
+        call remember_forces(memo, active, stress, f)
+        call remembered_forces(model, library, active, stress, f_again, memo)
+        if (any(f_again /= f)) call fail(error, 'forces kept by remember_forces not given back')
+    end subroutine test_forces_remembered
 
     !> One element, plane strain, on rollers (bottom free to slide, left edge free to move
     !> vertically) under a uniform top pressure q: sigma_yy = -q, sigma_xx = 0,

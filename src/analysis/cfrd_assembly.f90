@@ -17,6 +17,7 @@ module cfrd_assembly
     public :: element_box_t, dof_map_t
     public :: make_elements, number_equations, load_set_forces, fill_forces
     public :: assemble_tangent, internal_forces, element_tangents, gather, active_nodes
+    public :: force_memo_t, remembered_forces, remember_forces
     public :: min_parallel
 
     !> Elements per block of the parallel element loops: a block's contributions are
@@ -51,7 +52,58 @@ module cfrd_assembly
         integer, allocatable :: dofs(:)
     end type dof_map_t
 
+    !> The internal forces of one set of stresses on one set of active elements, kept for
+    !> the next call with the same inputs, bit for bit (issue 21, docs/performance.md (aj)):
+    !> an increment's predictor and midpoint corrector both take the forces of its start
+    !> stresses, which are the end stresses of the increment before, whose forces its
+    !> residual took.
+    type :: force_memo_t
+        logical, allocatable :: active(:)
+        real(dp), allocatable :: stress(:, :, :)
+        real(dp), allocatable :: force(:, :)
+    end type force_memo_t
+
 contains
+
+    !> internal_forces, or the forces `memo` holds when its stresses and active elements are
+    !> these, to the last bit; the forces computed are kept in `memo`.
+    subroutine remembered_forces(model, library, active, stress, force, memo)
+        type(model_t), intent(in) :: model
+        type(element_box_t), intent(in) :: library(:)
+        logical, intent(in) :: active(:)
+        real(dp), intent(in) :: stress(:, :, :)
+        real(dp), intent(out) :: force(:, :)
+        type(force_memo_t), intent(inout) :: memo
+        if (remembers(memo, active, stress)) then
+            force = memo%force
+            return
+        end if
+        call internal_forces(model, library, active, stress, force)
+        call remember_forces(memo, active, stress, force)
+    end subroutine remembered_forces
+
+    !> Keep `force`, the internal forces of `stress` on `active`, in `memo`.
+    pure subroutine remember_forces(memo, active, stress, force)
+        type(force_memo_t), intent(inout) :: memo
+        logical, intent(in) :: active(:)
+        real(dp), intent(in) :: stress(:, :, :), force(:, :)
+        memo%active = active
+        memo%stress = stress
+        memo%force = force
+    end subroutine remember_forces
+
+    !> Whether `memo` holds the forces of exactly these stresses and active elements.
+    pure logical function remembers(memo, active, stress)
+        type(force_memo_t), intent(in) :: memo
+        logical, intent(in) :: active(:)
+        real(dp), intent(in) :: stress(:, :, :)
+        remembers = .false.
+        if (.not. allocated(memo%force)) return
+        if (size(memo%active) /= size(active)) return
+        if (any(shape(memo%stress) /= shape(stress))) return
+        if (any(memo%active .neqv. active)) return
+        remembers = all(memo%stress == stress)
+    end function remembers
 
     !> The implementation of every element kind the mesh uses, indexed by kind, with the
     !> geometry (B, dV) of every element of the mesh, active or not.

@@ -15,7 +15,7 @@ module cfrd_increment
                                  material_update_tangent, material_tangent, update_substeps, &
                                  material_update_with_tangent
     use cfrd_assembly, only: element_box_t, dof_map_t, assemble_tangent, internal_forces, &
-                             gather, min_parallel
+                             gather, min_parallel, remembered_forces, remember_forces
     use cfrd_contact, only: contact_t, contact_geometry
     use cfrd_contact_constraints, only: contact_forces, contact_accept, contact_shear_shape
     use cfrd_linear_system, only: system_t, new_system, factorise_values, factorise_contact, &
@@ -42,7 +42,6 @@ module cfrd_increment
     public :: solve_increment, integrate_stress, accept_history, all_linear, newton_stalled
 
 contains
-
 
     !> Assemble the tangent at the given stresses and factorise it (numeric phase only while
     !> the pattern holds). A constant (linear elastic) tangent is factorised once per system.
@@ -349,6 +348,7 @@ contains
             if (searched) result%stats%searches = result%stats%searches + 1
         end if
         system%start_kept = .false.
+        call remember_forces(system%forces, state%active, stress_end, f_end)
         state%u = state%u + du
         state%stress = stress_end
         state%f_ext = f_target
@@ -481,7 +481,7 @@ contains
             call internal_forces(model, library, state%active, &
                                  stress_after(model, library, state, stress, du_p), f_int)
         else
-            call internal_forces(model, library, state%active, stress, f_int)
+            call remembered_forces(model, library, state%active, stress, f_int, system%forces)
         end if
         call solve_system(model, f_target - f_int, du_p, system, du, result, context, error, &
                           contact, du_base, unsettled)

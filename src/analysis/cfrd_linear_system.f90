@@ -14,7 +14,7 @@ module cfrd_linear_system
     use cfrd_sparse, only: sparse_pattern_t, build_pattern, assemble_element
     use cfrd_linear_solver, only: linear_solver_t
     use cfrd_matrix_market, only: write_matrix_if_asked
-    use cfrd_assembly, only: element_box_t, dof_map_t, number_equations
+    use cfrd_assembly, only: element_box_t, dof_map_t, number_equations, force_memo_t
     use cfrd_contact, only: contact_t, contact_slip, contact_stick
     use cfrd_contact_constraints, only: contact_element_dofs, contact_element_matrix, &
                                         contact_group_dofs, contact_group_matrix
@@ -49,6 +49,8 @@ module cfrd_linear_system
         !> rejected midpoint increment (linear_solver_t%keep): its retry from the same state
         !> takes it back instead of factorising the same matrix again (issue 21)
         logical :: start_kept = .false.
+        !> The internal forces of the last accepted stresses (cfrd_assembly: force_memo_t)
+        type(force_memo_t) :: forces
     end type system_t
 
     !> The slip rows' regularisation when a body held by friction alone slips at every
