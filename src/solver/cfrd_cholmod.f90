@@ -224,28 +224,29 @@ contains
         integer, intent(in) :: mirror(:)
         !> only the leading block of this order (the K of a saddle-point system, cfrd_schur)
         integer, intent(in), optional :: leading
-        real(dp), allocatable :: diagonal(:)
+        !> symmetry_tolerance sqrt(a_ii): an entry's bound is the product of its row's and
+        !> its column's, one square root per equation instead of one per entry
+        real(dp), allocatable :: scale(:)
         integer :: i, j, p, n
         symmetric = .false.
         n = pattern%n
         if (present(leading)) n = min(leading, pattern%n)
-        allocate (diagonal(n), source=0.0_dp)
+        allocate (scale(n), source=0.0_dp)
         do j = 1, n
             do p = pattern%colptr(j) + 1, pattern%colptr(j + 1)
-                if (pattern%rowind(p) + 1 == j) diagonal(j) = values(p)
+                if (pattern%rowind(p) + 1 == j) scale(j) = values(p)
             end do
         end do
-        if (.not. all(diagonal > 0.0_dp)) return
+        if (.not. all(scale > 0.0_dp)) return
+        scale = sqrt(symmetry_tolerance)*sqrt(scale)
         do j = 1, n
             do p = pattern%colptr(j) + 1, pattern%colptr(j + 1)
                 i = pattern%rowind(p) + 1
                 if (i > n) exit
                 if (i <= j) cycle
                 if (mirror(p) == 0) then
-                    if (.not. (abs(values(p)) <= symmetry_tolerance* &
-                               sqrt(diagonal(i)*diagonal(j)))) return
-                else if (.not. (abs(values(p) - values(mirror(p))) <= symmetry_tolerance* &
-                                sqrt(diagonal(i)*diagonal(j)))) then
+                    if (.not. (abs(values(p)) <= scale(i)*scale(j))) return
+                else if (.not. (abs(values(p) - values(mirror(p))) <= scale(i)*scale(j))) then
                     return
                 end if
             end do
@@ -256,8 +257,7 @@ contains
                 i = pattern%rowind(p) + 1
                 if (i > n) exit
                 if (i >= j .or. mirror(p) /= 0) cycle
-                if (.not. (abs(values(p)) <= symmetry_tolerance*sqrt(diagonal(i)*diagonal(j)))) &
-                    return
+                if (.not. (abs(values(p)) <= scale(i)*scale(j))) return
             end do
         end do
         symmetric = .true.
