@@ -14,7 +14,7 @@ module cfrd_stage_driver
     use cfrd_principal, only: principal_stresses
     use cfrd_material_law, only: nhistory, stress_level
     use cfrd_assembly, only: element_box_t, make_elements, load_set_forces, fill_forces, &
-                             internal_forces, active_nodes, force_memo_t, remembered_forces
+                             active_nodes, force_memo_t, remembered_forces
     use cfrd_water, only: water_forces, lowest_wet_point
     use cfrd_pjoint_results, only: perimetric_joints
     use cfrd_interface, only: interface_stations, phase_openings, slab_stresses
@@ -115,7 +115,7 @@ contains
             call stored(number, result, light, error)
             if (allocated(error)) return
             call restore_state(result, state)
-            call record(model, library, state, result, light)
+            call record(model, library, state, result, system%forces, light)
             call stage_labels(model%stages(number), state, result)
             if (number < restart .or. number == size(model%stages)) return
             call new_system(model, library, state%active, system, error, state%contact, &
@@ -286,7 +286,7 @@ contains
                     end associate
                 end if
             end if
-            call record(model, library, state, result, forces=system%forces)
+            call record(model, library, state, result, system%forces)
             call stage_labels(stage, state, result)
             result%carry = carry_of(state, system%contact_scale)
             result%wall_time = wall_seconds() - t0
@@ -443,14 +443,14 @@ contains
     !> The stage's results: displacements, stresses, principal stresses, reactions.
     !> `light`: a stored stage's summary and CSV rows only (stress levels, reactions and the
     !> Gauss-point fields are left out).
-    subroutine record(model, library, state, result, light, forces)
+    subroutine record(model, library, state, result, forces, light)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         type(state_t), intent(in) :: state
         type(stage_result_t), intent(inout) :: result
+        !> the internal forces of the last accepted stresses (the system's)
+        type(force_memo_t), intent(inout) :: forces
         logical, intent(in), optional :: light
-        !> the internal forces of the last accepted stresses (the stage's system)
-        type(force_memo_t), intent(inout), optional :: forces
         real(dp), allocatable :: f_int(:, :)
         logical, allocatable :: used(:)
         integer :: e, ig, ng
@@ -505,11 +505,7 @@ contains
             if (allocated(state%creep)) result%creep_gauss = state%creep
             if (allocated(state%wet)) result%wetting_gauss = state%wet
             allocate (f_int(2, mesh%nnode))
-            if (present(forces)) then
-                call remembered_forces(model, library, state%active, state%stress, f_int, forces)
-            else
-                call internal_forces(model, library, state%active, state%stress, f_int)
-            end if
+            call remembered_forces(model, library, state%active, state%stress, f_int, forces)
             if (state%has_contact) then
                 ! contact forces are internal to the model: reactions see their sum
                 block

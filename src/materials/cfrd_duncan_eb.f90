@@ -74,6 +74,14 @@ contains
         t = log(max(sigma3, p%sigma3_floor)/p%pa)
     end function log_ratio
 
+    !> (sigma3/pa)^(1/4) of sigma3 floored: the factor of Duncan's stress-state function
+    !> SS = S (sigma3/pa)^(1/4).
+    pure real(dp) function quarter_root(p, sigma3) result(r)
+        type(eb_params_t), intent(in) :: p
+        real(dp), intent(in) :: sigma3
+        r = sqrt(sqrt(max(sigma3, p%sigma3_floor)/p%pa))
+    end function quarter_root
+
     !> The friction angle (degrees, clamped to [1, 89]) from t = ln(sigma3/pa) (eq. 20).
     pure real(dp) function friction_angle(p, t) result(phi)
         type(eb_params_t), intent(in) :: p
@@ -166,7 +174,7 @@ contains
         real(dp) :: sigma1, sigma3
         call eb_principal(stress, sigma1, sigma3)
         level = stress_level(p, sigma1, sigma3)
-        ss = level*sqrt(sqrt(max(sigma3, p%sigma3_floor)/p%pa))
+        ss = level*quarter_root(p, sigma3)
         if (present(minor)) minor = sigma3
     end subroutine eb_level_state
 
@@ -198,10 +206,9 @@ contains
         rise = max(trial_level, 0.0_dp) - s0
         n = max(p%rf*rise/(2.0_dp*reach*(1.0_dp - p%rf*s0)), 0.0_dp)
         if (ss_max <= ss_threshold) return
-        root4 = sqrt(sqrt(max(sigma3, p%sigma3_floor)/p%pa))
+        root4 = quarter_root(p, sigma3)
         ss0 = s0*root4
-        ss1 = min(max(trial_level, 0.0_dp), p%level_cap)* &
-              sqrt(sqrt(max(trial3, p%sigma3_floor)/p%pa))
+        ss1 = min(max(trial_level, 0.0_dp), p%level_cap)*quarter_root(p, trial3)
         if (ss0 >= ss_max .or. ss1 <= (1.0_dp - transition)*ss_max) return
         et_top = p%k*p%pa*exp(p%n*t)*(1.0_dp - p%rf*min(ss_max/root4, p%level_cap))**2
         eur = p%kur*p%pa*exp(p%n*t)
@@ -234,7 +241,7 @@ contains
         t = log_ratio(p, sigma3)
         level = (sigma1 - sigma3)/failure_deviator(p, s3, t)
         level = min(max(level, 0.0_dp), p%level_cap)
-        ss = level*sqrt(sqrt(s3/p%pa))
+        ss = level*quarter_root(p, s3)
         power_n = exp(p%n*t)
         ! Loading (SS at its past maximum): Et of eq. 19. Unloading: the modulus moves
         ! linearly from Et to Eur as SS falls from its past maximum to 0.75 of it, and is Eur
@@ -310,7 +317,7 @@ contains
         et = eload
         det = deload
         ! unloading: Et moves to Eur as SS falls from ss_max to (1 - transition) ss_max
-        root4 = sqrt(sqrt(s3/p%pa))
+        root4 = quarter_root(p, s3)
         ss = level*root4
         if (ss_max > ss_threshold .and. ss < ss_max) then
             dss = dlevel*root4 + 0.25_dp*level*root4/s3*ds3
