@@ -146,7 +146,7 @@ contains
         ! The next system is prepared ahead now when this one's analysis is at hand, else
         ! after this one's own analysis (factorise_values): two analyses at once would
         ! share METIS's random numbers (a global state), and so their orderings.
-        call schedule_ahead(model, library, contact, has_contact)
+        call schedule_ahead(model, library, active, contact, has_contact)
         if (taken) call post_ahead()
     end subroutine new_system
 
@@ -226,15 +226,20 @@ contains
         pending_library => null()
     end subroutine forget_ahead
 
-    !> What the next preparation needs from the system just made: the model and library,
-    !> and the couplings of its contact (their lists, which the pattern is made of).
-    subroutine schedule_ahead(model, library, contact, has_contact)
+    !> What the next preparation needs from the system just made (of `active`): the model
+    !> and library, and the couplings of its contact (their lists, which the pattern is made
+    !> of). Nothing when no FILL stage follows, or it activates nothing new.
+    subroutine schedule_ahead(model, library, active, contact, has_contact)
         type(model_t), target, intent(in) :: model
         type(element_box_t), target, intent(in) :: library(:)
+        logical, intent(in) :: active(:)
         type(contact_t), intent(in) :: contact
         logical, intent(in) :: has_contact
         pending = .false.
         if (.not. allocated(next_active)) return
+        if (size(next_active) == size(active)) then
+            if (all(next_active .eqv. active)) return
+        end if
         pending_model => model
         pending_library => library
         pending_has_contact = has_contact
