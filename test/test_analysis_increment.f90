@@ -123,9 +123,9 @@ contains
         type(state_t) :: state
         type(system_t) :: system
         type(stage_result_t) :: result
-        real(dp), allocatable :: x(:, :), dense(:, :), b(:), solution(:), reference(:)
-        integer, allocatable :: conn(:, :), ipiv(:)
-        integer :: n, j, p, info
+        real(dp), allocatable :: x(:, :), b(:), solution(:), reference(:)
+        integer, allocatable :: conn(:, :)
+        integer :: n, j
         call grid(3, 2, 0.0_dp, 0.0_dp, 0, x, conn)
         call new_model(model, x, conn, [(1, j=1, 6)], [elastic_material(young, nu, 0.0_dp)])
         model%fixed(:, 1:4) = .true.
@@ -141,19 +141,11 @@ contains
         n = system%pattern%n
         call check(error, n, 16, 'equations of the 8 free nodes')
         if (allocated(error)) return
-        allocate (dense(n, n), source=0.0_dp)
-        do j = 1, n
-            do p = system%pattern%colptr(j) + 1, system%pattern%colptr(j + 1)
-                dense(system%pattern%rowind(p) + 1, j) = system%values(p)
-            end do
-        end do
-        allocate (b(n), solution(n), ipiv(n))
+        allocate (b(n), solution(n))
         b = [(sin(1.7_dp*j) + 0.3_dp, j=1, n)]
         call system%solver%solve(system%pattern, system%values, b, solution, error)
         if (allocated(error)) return
-        reference = b
-        call dgesv(n, 1, dense, n, ipiv, reference, n, info)
-        call check(error, info, 0, 'dgesv')
+        call dense_lu_solve(system, b, reference, error)
         if (allocated(error)) return
         call check(error, maxval(abs(solution - reference)), 0.0_dp, &
                    'sparse solve (CHOLMOD) against dense LU, max |x - x_lapack|', &
@@ -323,6 +315,29 @@ contains
         call check(error, count(state%contact%status /= 0), 3, 'slave nodes closed')
         call system%solver%release()
     end subroutine test_pressed_block
+    !> x = A^-1 b by LAPACK's dgesv (LU with partial pivoting) on the system's matrix written
+    !> out dense: the reference of the sparse solves.
+    subroutine dense_lu_solve(system, b, x, error)
+        type(system_t), intent(in) :: system
+        real(dp), intent(in) :: b(:)
+        real(dp), allocatable, intent(out) :: x(:)
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), allocatable :: dense(:, :)
+        integer, allocatable :: ipiv(:)
+        integer :: n, j, p, info
+        n = system%pattern%n
+        allocate (dense(n, n), source=0.0_dp)
+        do j = 1, n
+            do p = system%pattern%colptr(j) + 1, system%pattern%colptr(j + 1)
+                dense(system%pattern%rowind(p) + 1, j) = system%values(p)
+            end do
+        end do
+        allocate (ipiv(n))
+        x = b
+        call dgesv(n, 1, dense, n, ipiv, x, n, info)
+        call check(error, info, 0, 'dgesv')
+    end subroutine dense_lu_solve
+
     !> The next FILL stage's system prepared ahead on the second thread (cfrd_linear_system's
     !> expect_next, docs/performance.md (ak)): a 3 x 4 elastic grid fixed at its base, its
     !> lower half active, then all of it. The system taken for the whole grid has the same
@@ -335,10 +350,10 @@ contains
         type(state_t) :: state
         type(system_t) :: lower, ahead, own
         type(stage_result_t) :: r_lower, r_ahead, r_own
-        real(dp), allocatable :: x(:, :), dense(:, :), b(:), x_ahead(:), x_own(:), reference(:)
-        integer, allocatable :: conn(:, :), ipiv(:)
+        real(dp), allocatable :: x(:, :), b(:), x_ahead(:), x_own(:), reference(:)
+        integer, allocatable :: conn(:, :)
         logical, allocatable :: half(:), whole(:)
-        integer :: n, j, p, info
+        integer :: n, j
         call grid(3, 4, 0.0_dp, 0.0_dp, 0, x, conn)
         call new_model(model, x, conn, [(1, j=1, 12)], [elastic_material(young, nu, 0.0_dp)])
         model%fixed(:, 1:4) = .true.
@@ -386,16 +401,7 @@ contains
         n = own%pattern%n
         call check(error, n, 32, 'equations of the 16 free nodes')
         if (allocated(error)) return
-        allocate (dense(n, n), source=0.0_dp)
-        do j = 1, n
-            do p = own%pattern%colptr(j) + 1, own%pattern%colptr(j + 1)
-                dense(own%pattern%rowind(p) + 1, j) = own%values(p)
-            end do
-        end do
-        allocate (ipiv(n))
-        reference = b
-        call dgesv(n, 1, dense, n, ipiv, reference, n, info)
-        call check(error, info, 0, 'dgesv')
+        call dense_lu_solve(own, b, reference, error)
         if (allocated(error)) return
         call check(error, maxval(abs(x_ahead - reference)), 0.0_dp, &
                    'prepared ahead against dense LU, max |x - x_lapack|', &
