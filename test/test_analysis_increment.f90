@@ -13,7 +13,8 @@ module test_analysis_increment
     use cfrd_assembly, only: element_box_t, make_elements, assemble_tangent, force_memo_t, &
                              remembered_forces, remember_forces
     use cfrd_contact, only: new_contact, contact_geometry
-    use cfrd_linear_system, only: system_t, new_system, factorise_values
+    use cfrd_linear_system, only: system_t, new_system, factorise_values, expect_next, &
+                                  forget_ahead, ahead_thread
     use cfrd_stage_state, only: state_t, ngauss
     use cfrd_increment, only: solve_increment, newton_stalled
     use cfrd_test_models, only: new_model, elastic_material
@@ -34,7 +35,8 @@ contains
                 new_unittest('increment_uniaxial_plane_strain', test_uniaxial), &
                 new_unittest('active_set_block_on_foundation', test_pressed_block), &
                 new_unittest('newton_stall_rule', test_newton_stall), &
-                new_unittest('forces_remembered', test_forces_remembered) &
+                new_unittest('forces_remembered', test_forces_remembered), &
+                new_unittest('next_system_prepared_ahead', test_prepared_ahead) &
                 ]
     end subroutine collect_analysis_increment
 
@@ -121,9 +123,9 @@ contains
         type(state_t) :: state
         type(system_t) :: system
         type(stage_result_t) :: result
-        real(dp), allocatable :: x(:, :), dense(:, :), b(:), solution(:), reference(:)
-        integer, allocatable :: conn(:, :), ipiv(:)
-        integer :: n, j, p, info
+        real(dp), allocatable :: x(:, :), b(:), solution(:), reference(:)
+        integer, allocatable :: conn(:, :)
+        integer :: n, j
         call grid(3, 2, 0.0_dp, 0.0_dp, 0, x, conn)
         call new_model(model, x, conn, [(1, j=1, 6)], [elastic_material(young, nu, 0.0_dp)])
         model%fixed(:, 1:4) = .true.
@@ -139,19 +141,11 @@ contains
         n = system%pattern%n
         call check(error, n, 16, 'equations of the 8 free nodes')
         if (allocated(error)) return
-        allocate (dense(n, n), source=0.0_dp)
-        do j = 1, n
-            do p = system%pattern%colptr(j) + 1, system%pattern%colptr(j + 1)
-                dense(system%pattern%rowind(p) + 1, j) = system%values(p)
-            end do
-        end do
-        allocate (b(n), solution(n), ipiv(n))
+        allocate (b(n), solution(n))
         b = [(sin(1.7_dp*j) + 0.3_dp, j=1, n)]
         call system%solver%solve(system%pattern, system%values, b, solution, error)
         if (allocated(error)) return
-        reference = b
-        call dgesv(n, 1, dense, n, ipiv, reference, n, info)
-        call check(error, info, 0, 'dgesv')
+        call dense_lu_solve(system, b, reference, error)
         if (allocated(error)) return
         call check(error, maxval(abs(solution - reference)), 0.0_dp, &
                    'sparse solve (CHOLMOD) against dense LU, max |x - x_lapack|', &
@@ -321,4 +315,114 @@ contains
         call check(error, count(state%contact%status /= 0), 3, 'slave nodes closed')
         call system%solver%release()
     end subroutine test_pressed_block
+    !> x = A^-1 b by LAPACK's dgesv (LU with partial pivoting) on the system's matrix written
+    !> out dense: the reference of the sparse solves.
+    subroutine dense_lu_solve(system, b, x, error)
+        type(system_t), intent(in) :: system
+        real(dp), intent(in) :: b(:)
+        real(dp), allocatable, intent(out) :: x(:)
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), allocatable :: dense(:, :)
+        integer, allocatable :: ipiv(:)
+        integer :: n, j, p, info
+        n = system%pattern%n
+        allocate (dense(n, n), source=0.0_dp)
+        do j = 1, n
+            do p = system%pattern%colptr(j) + 1, system%pattern%colptr(j + 1)
+                dense(system%pattern%rowind(p) + 1, j) = system%values(p)
+            end do
+        end do
+        allocate (ipiv(n))
+        x = b
+        call dgesv(n, 1, dense, n, ipiv, x, n, info)
+        call check(error, info, 0, 'dgesv')
+    end subroutine dense_lu_solve
+
+    !> The next FILL stage's system prepared ahead on the second thread (cfrd_linear_system's
+    !> expect_next, docs/performance.md (ak)): a 3 x 4 elastic grid fixed at its base, its
+    !> lower half active, then all of it. The system taken for the whole grid has the same
+    !> pattern as one built on the caller's thread, its factorisation solves K x = b to the
+    !> same bits, and both agree with LAPACK's dgesv on the matrix written out dense.
+    subroutine test_prepared_ahead(error)
+        type(error_t), allocatable, intent(out) :: error
+        type(model_t) :: model
+        type(element_box_t), allocatable :: library(:)
+        type(state_t) :: state
+        type(system_t) :: lower, ahead, own
+        type(stage_result_t) :: r_lower, r_ahead, r_own
+        real(dp), allocatable :: x(:, :), b(:), x_ahead(:), x_own(:), reference(:)
+        integer, allocatable :: conn(:, :)
+        logical, allocatable :: half(:), whole(:)
+        integer :: n, j
+        call grid(3, 4, 0.0_dp, 0.0_dp, 0, x, conn)
+        call new_model(model, x, conn, [(1, j=1, 12)], [elastic_material(young, nu, 0.0_dp)])
+        model%fixed(:, 1:4) = .true.
+        call make_elements(model, library, error)
+        if (allocated(error)) return
+        call rest_state(model, state)
+        half = [(j <= 6, j=1, 12)]
+        whole = [(.true., j=1, 12)]
+        ! the lower half solved while the whole grid's system is prepared
+        call expect_next(whole)
+        call new_system(model, library, half, lower, error, state%contact, .false.)
+        if (allocated(error)) return
+        call assemble_tangent(model, library, half, lower%pattern, state%stress, &
+                              state%strain, state%history, lower%values)
+        call factorise_values(lower, r_lower, 'lower', error)
+        if (allocated(error)) return
+        call new_system(model, library, whole, ahead, error, state%contact, .false.)
+        if (allocated(error)) return
+        call check(error, ahead%prepared_ahead .eqv. ahead_thread(), &
+                   'the whole grid''s system taken from the thread ahead (where it runs)')
+        if (allocated(error)) return
+        call solve_whole(ahead, r_ahead, x_ahead)
+        if (allocated(error)) return
+        if (ahead_thread()) then
+            call check(error, r_ahead%stats%analyses_ahead, 1, 'analyses made ahead')
+            if (allocated(error)) return
+        end if
+        call check(error, r_ahead%stats%analyses, 1, 'analyses of the whole grid''s system')
+        if (allocated(error)) return
+        ! the same system built on this thread alone
+        call forget_ahead()
+        call new_system(model, library, whole, own, error, state%contact, .false.)
+        if (allocated(error)) return
+        call check(error, .not. own%prepared_ahead, 'nothing prepared ahead after forget_ahead')
+        if (allocated(error)) return
+        call solve_whole(own, r_own, x_own)
+        if (allocated(error)) return
+        call check(error, ahead%pattern%n == own%pattern%n .and. &
+                   all(ahead%pattern%colptr == own%pattern%colptr) .and. &
+                   all(ahead%pattern%rowind == own%pattern%rowind) .and. &
+                   all(ahead%pattern%map == own%pattern%map), 'the same pattern and maps')
+        if (allocated(error)) return
+        call check(error, all(x_ahead == x_own), 'the same solution, bit for bit')
+        if (allocated(error)) return
+        n = own%pattern%n
+        call check(error, n, 32, 'equations of the 16 free nodes')
+        if (allocated(error)) return
+        call dense_lu_solve(own, b, reference, error)
+        if (allocated(error)) return
+        call check(error, maxval(abs(x_ahead - reference)), 0.0_dp, &
+                   'prepared ahead against dense LU, max |x - x_lapack|', &
+                   abs=1.0e-12_dp*maxval(abs(reference)))
+        call lower%solver%release()
+        call ahead%solver%release()
+        call own%solver%release()
+    contains
+        !> The whole grid's tangent assembled, factorised and solved for b.
+        subroutine solve_whole(system, result, solution)
+            type(system_t), intent(inout) :: system
+            type(stage_result_t), intent(inout) :: result
+            real(dp), allocatable, intent(out) :: solution(:)
+            call assemble_tangent(model, library, whole, system%pattern, state%stress, &
+                                  state%strain, state%history, system%values)
+            call factorise_values(system, result, 'whole', error)
+            if (allocated(error)) return
+            b = [(sin(1.3_dp*j) + 0.2_dp, j=1, system%pattern%n)]
+            allocate (solution(system%pattern%n))
+            call system%solver%solve(system%pattern, system%values, b, solution, error)
+        end subroutine solve_whole
+    end subroutine test_prepared_ahead
+
 end module test_analysis_increment

@@ -6,9 +6,9 @@ docs/results.md, "Running many decks").
     make batch DECKS="inputs/a.dat inputs/b.dat" [OUT=DIR] [JOBS=N]
 
 Each deck runs as `cfrd --out DIR DECK` (OPENBLAS_NUM_THREADS=1), at most N at a time, what it
-prints in DIR/DECK.log; with N at least the cores, also CFRD_WRITE_BEHIND=0 (unless set): every
-core runs a deck, so none is free to write a deck's stages behind its analysis (docs/performance.md
-(ag)); then a summary is printed and written to DIR/batch-summary.csv.
+prints in DIR/DECK.log; with N at least the cores, also CFRD_WRITE_BEHIND=0 and CFRD_AHEAD=0
+(each unless set): every core runs a deck, so none is free to write a deck's stages behind its
+analysis or prepare its next stage's system ahead of it (docs/performance.md (ag), (ak)); then a summary is printed and written to DIR/batch-summary.csv.
 SIGINT or SIGTERM is passed on to the decks running (they keep their completed stages); the
 others are "not run". Exit status: 0 when every deck ran; else the number of failed decks (at
 most 100); 101 when the batch could not start (bad arguments, no program, --out naming a
@@ -138,11 +138,13 @@ def error_of(lines):
 
 def deck_environment(jobs):
     """The environment of each deck's run: one BLAS thread; and with a deck on every core
-    (`jobs` at least the cores), the stages written on the run's own thread, not behind it
-    (CFRD_WRITE_BEHIND=0, unless set): no core is free for the second thread."""
+    (`jobs` at least the cores), the stages written on the run's own thread, not behind it,
+    and the next stage's system not prepared ahead (CFRD_WRITE_BEHIND=0, CFRD_AHEAD=0, each
+    unless set): no core is free for a second thread."""
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1")
     if jobs >= default_jobs():
         env.setdefault("CFRD_WRITE_BEHIND", "0")
+        env.setdefault("CFRD_AHEAD", "0")
     return env
 
 

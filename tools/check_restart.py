@@ -12,9 +12,9 @@ stages added here [choice]), each run once in full:
 1. `cfrd --restart FULL.h5 --from-stage K` for K the last stage of each kind the deck has
    (FILL of a fill layer, RESET, FILL of a slab phase, WATER, LOAD, WAIT, WET) before its
    last stage: every dataset and attribute of every stage equal to the full run's to the
-   last bit (timings aside; of stage K+1 the count of symbolic factorisations too: the
-   restart analyses its first matrix anew), and every CSV file equal line for line after
-   its run-id comment.
+   last bit (timings and `symbolic_ahead` aside; of stage K+1 the count of symbolic
+   factorisations too: the restart analyses its first matrix anew), and every CSV file
+   equal line for line after its run-id comment.
 2. On the contact deck: the same with the deck given (`--restart FULL.h5 --from-stage K
    DECK`); with `--compress 0` (the stored stages recorded again from their state and
    written, not copied); a scenario, a deck that differs only after K (the last reservoir level), against

@@ -4,6 +4,7 @@
 !> With contact, the multiplier rows of the current active set are added to K before each
 !> factorisation, or the factors updated for the rows that changed (section 14).
 module cfrd_linear_system
+    use, intrinsic :: iso_c_binding, only: c_funptr, c_funloc, c_int
     use cfrd_kinds, only: dp
     use cfrd_error, only: error_t
     use cfrd_clock, only: wall_seconds
@@ -22,7 +23,7 @@ module cfrd_linear_system
     private
 
     public :: system_t, new_system, factorise_values, factorise_contact, multiplier_scale
-    public :: slip_viscosity
+    public :: slip_viscosity, expect_next, forget_ahead, ahead_thread
 
 
     !> The linear-algebra objects of one active set.
@@ -51,6 +52,8 @@ module cfrd_linear_system
         logical :: start_kept = .false.
         !> The internal forces of the last accepted stresses (cfrd_assembly: force_memo_t)
         type(force_memo_t) :: forces
+        !> the pattern's symbolic analysis was prepared ahead (new_system), not yet counted
+        logical :: prepared_ahead = .false.
     end type system_t
 
     !> The slip rows' regularisation when a body held by friction alone slips at every
@@ -61,12 +64,94 @@ module cfrd_linear_system
     !> analyses cost, at x2 (5,000) they do not [choice, measured: docs/performance.md (ab)].
     integer, parameter :: contact_metis_min = 10000
 
+    !> The next FILL stage's system prepared ahead, on a second thread (cfrd_behind.c's
+    !> queue ahead), while the current stage is solved (docs/performance.md (ak)): its
+    !> equations, pattern and symbolic analysis, taken by new_system when the active set and
+    !> the contact couplings are those it was prepared for. One run at a time per process.
+    logical, allocatable, save :: next_active(:)    !! the next FILL stage's (expect_next)
+    !> the preparation's inputs (read by the job between its post and c_ahead_wait)
+    type(model_t), pointer, save :: ahead_model => null()
+    type(element_box_t), pointer, save :: ahead_library(:) => null()
+    logical, allocatable, save :: ahead_active(:)
+    type(contact_t), save :: ahead_contact           !! its coupling lists only
+    logical, save :: ahead_has_contact = .false.
+    !> a job posted (its result not yet taken); the job's result and success
+    logical, save :: ahead_posted = .false.
+    type(system_t), save :: ahead
+    logical, save :: ahead_ok = .false.
+    !> a preparation scheduled by new_system, posted after the system's own analysis
+    logical, save :: pending = .false.
+    type(model_t), pointer, save :: pending_model => null()
+    type(element_box_t), pointer, save :: pending_library(:) => null()
+    type(contact_t), save :: pending_contact         !! its coupling lists only
+    logical, save :: pending_has_contact = .false.
+
+    interface
+        integer(c_int) function c_ahead_post(job) bind(C, name='cfrd_ahead_post')
+            import :: c_funptr, c_int
+            type(c_funptr), value :: job
+        end function c_ahead_post
+        subroutine c_ahead_wait() bind(C, name='cfrd_ahead_wait')
+        end subroutine c_ahead_wait
+        integer(c_int) function c_ahead_thread() bind(C, name='cfrd_ahead_thread')
+            import :: c_int
+        end function c_ahead_thread
+    end interface
+
 contains
 
     !> Equations, pattern and a fresh solver for the current active set.
     !> With contact, each slave node is one more element (its coupled nodes and its two
     !> multiplier equations, numbered after the displacement equations).
+    !> The equations, pattern and symbolic analysis of this active set are taken from the
+    !> system prepared ahead when it was prepared for the same active set and couplings
+    !> (expect_next): the same numbers, bit for bit. Then the next FILL stage's system is
+    !> prepared ahead, on a second thread, while this one is solved.
     subroutine new_system(model, library, active, system, error, contact, has_contact)
+        type(model_t), target, intent(in) :: model
+        type(element_box_t), target, intent(in) :: library(:)
+        logical, intent(in) :: active(:)
+        type(system_t), intent(inout) :: system
+        type(error_t), allocatable, intent(out) :: error
+        type(contact_t), intent(in) :: contact
+        logical, intent(in) :: has_contact
+        logical :: taken
+        call system%solver%release()
+        call system%solver%configure(model%linear_solver, .not. has_contact, &
+                                     all_linear(model, active), &
+                                     multipliers=merge(2*contact%nc, 0, has_contact))
+        taken = take_ahead(active, contact, has_contact, system)
+        system%prepared_ahead = taken
+        if (.not. taken) then
+            call build_structure(model, library, active, system, error, contact, has_contact)
+            if (allocated(error)) return
+        end if
+        if (has_contact) then
+            system%constrains = constraining_rows(contact, system%dofmap%eq)
+            ! The multipliers are scaled to K's size (multiplier_scale): UMFPACK's row
+            ! scaling would only push its pivots off the diagonal.
+            call system%solver%set_row_scaling(.false.)
+            ! METIS on the larger systems; no iterative refinement of the solves of the
+            ! factorised matrix: the updated solves refine against the matrix they solve
+            ! (docs/theory.md section 6, docs/performance.md (ab)).
+            call system%solver%set_metis(system%pattern%n >= contact_metis_min)
+            call system%solver%set_refinement(.false.)
+        end if
+        if (allocated(system%k_values)) deallocate (system%k_values)
+        if (allocated(system%values)) deallocate (system%values)
+        allocate (system%values(system%pattern%nnz), source=0.0_dp)
+        system%factorised_linear = .false.
+        system%scale_given = .false.
+        system%start_kept = .false.
+        ! The next system is prepared ahead now when this one's analysis is at hand, else
+        ! after this one's own analysis (factorise_values): two analyses at once would
+        ! share METIS's random numbers (a global state), and so their orderings.
+        call schedule_ahead(model, library, active, contact, has_contact)
+        if (taken) call post_ahead()
+    end subroutine new_system
+
+    !> The equations and the sparse pattern of an active set (with contact, of its couplings).
+    subroutine build_structure(model, library, active, system, error, contact, has_contact)
         type(model_t), intent(in) :: model
         type(element_box_t), intent(in) :: library(:)
         logical, intent(in) :: active(:)
@@ -76,10 +161,6 @@ contains
         logical, intent(in) :: has_contact
         integer, allocatable :: dof_ptr(:), dofs(:), more(:)
         integer :: c, g, k, nelem, pos
-        call system%solver%release()
-        call system%solver%configure(model%linear_solver, .not. has_contact, &
-                                     all_linear(model, active), &
-                                     multipliers=merge(2*contact%nc, 0, has_contact))
         call number_equations(model, library, active, system%dofmap)
         if (has_contact) then
             nelem = model%mesh%nelem
@@ -111,27 +192,169 @@ contains
             end do
             call build_pattern(system%pattern, system%dofmap%neq + 2*contact%nc, dof_ptr, &
                                dofs, error)
-            system%constrains = constraining_rows(contact, system%dofmap%eq)
-            ! The multipliers are scaled to K's size (multiplier_scale): UMFPACK's row
-            ! scaling would only push its pivots off the diagonal.
-            call system%solver%set_row_scaling(.false.)
-            ! METIS on the larger systems; no iterative refinement of the solves of the
-            ! factorised matrix: the updated solves refine against the matrix they solve
-            ! (docs/theory.md section 6, docs/performance.md (ab)).
-            call system%solver%set_metis(system%pattern%n >= contact_metis_min)
-            call system%solver%set_refinement(.false.)
         else
             call build_pattern(system%pattern, system%dofmap%neq, system%dofmap%dof_ptr, &
                                system%dofmap%dofs, error)
         end if
+    end subroutine build_structure
+
+    !> The active set of the next FILL stage (unallocated: none): its system is prepared
+    !> ahead from the next new_system on (the stage driver tells it at each stage).
+    subroutine expect_next(active)
+        logical, allocatable, intent(in) :: active(:)
+        if (allocated(next_active)) deallocate (next_active)
+        if (allocated(active)) next_active = active
+    end subroutine expect_next
+
+    !> Systems are prepared ahead on a thread of their own (false where cfrd_behind.c's queue
+    !> ahead has none: one processor, CFRD_AHEAD=0; or before the first preparation posted).
+    logical function ahead_thread()
+        ahead_thread = c_ahead_thread() == 1
+    end function ahead_thread
+
+    !> Nothing prepared or expected any more (the end of a run): the job ahead finished and
+    !> its system freed.
+    subroutine forget_ahead()
+        if (ahead_posted) call c_ahead_wait()
+        ahead_posted = .false.
+        pending = .false.
+        call ahead%solver%release()
+        if (allocated(next_active)) deallocate (next_active)
+        ahead_model => null()
+        ahead_library => null()
+        pending_model => null()
+        pending_library => null()
+    end subroutine forget_ahead
+
+    !> What the next preparation needs from the system just made (of `active`): the model
+    !> and library, and the couplings of its contact (their lists, which the pattern is made
+    !> of). Nothing when no FILL stage follows, or it activates nothing new.
+    subroutine schedule_ahead(model, library, active, contact, has_contact)
+        type(model_t), target, intent(in) :: model
+        type(element_box_t), target, intent(in) :: library(:)
+        logical, intent(in) :: active(:)
+        type(contact_t), intent(in) :: contact
+        logical, intent(in) :: has_contact
+        pending = .false.
+        if (.not. allocated(next_active)) return
+        if (size(next_active) == size(active)) then
+            if (all(next_active .eqv. active)) return
+        end if
+        pending_model => model
+        pending_library => library
+        pending_has_contact = has_contact
+        call copy_couplings(contact, pending_contact)
+        pending = .true.
+    end subroutine schedule_ahead
+
+    !> Post the preparation scheduled, unless the one posted last is for the same active set
+    !> and couplings (its result still to be taken).
+    subroutine post_ahead()
+        if (.not. pending) return
+        pending = .false.
+        if (ahead_posted) then
+            if (same_key(next_active, pending_contact, pending_has_contact)) return
+            call c_ahead_wait()
+            ahead_posted = .false.
+        end if
+        ahead_model => pending_model
+        ahead_library => pending_library
+        ahead_active = next_active
+        ahead_has_contact = pending_has_contact
+        call copy_couplings(pending_contact, ahead_contact)
+        ahead_ok = .false.
+        ahead_posted = c_ahead_post(c_funloc(prepare_ahead)) /= 0
+    end subroutine post_ahead
+
+    !> The job ahead (on the second thread): the system of ahead_active, configured as
+    !> new_system configures it, its equations, pattern and symbolic analysis.
+    subroutine prepare_ahead() bind(C)
+        type(error_t), allocatable :: error
+        call ahead%solver%release()
+        call ahead%solver%configure(ahead_model%linear_solver, .not. ahead_has_contact, &
+                                    all_linear(ahead_model, ahead_active), &
+                                    multipliers=merge(2*ahead_contact%nc, 0, &
+                                                      ahead_has_contact))
+        call build_structure(ahead_model, ahead_library, ahead_active, ahead, error, &
+                             ahead_contact, ahead_has_contact)
         if (allocated(error)) return
-        if (allocated(system%k_values)) deallocate (system%k_values)
-        if (allocated(system%values)) deallocate (system%values)
-        allocate (system%values(system%pattern%nnz), source=0.0_dp)
-        system%factorised_linear = .false.
-        system%scale_given = .false.
-        system%start_kept = .false.
-    end subroutine new_system
+        call ahead%solver%prepare(ahead%pattern, error)
+        ahead_ok = .not. allocated(error)
+    end subroutine prepare_ahead
+
+    !> The system prepared ahead for this active set and couplings, moved into `system`
+    !> (released and configured): true when there was one.
+    logical function take_ahead(active, contact, has_contact, system) result(taken)
+        logical, intent(in) :: active(:)
+        type(contact_t), intent(in) :: contact
+        logical, intent(in) :: has_contact
+        type(system_t), intent(inout) :: system
+        taken = .false.
+        if (.not. ahead_posted) return
+        if (.not. same_key(active, contact, has_contact)) return
+        call c_ahead_wait()
+        ahead_posted = .false.
+        if (.not. ahead_ok) return
+        system%dofmap%neq = ahead%dofmap%neq
+        call move_alloc(ahead%dofmap%eq, system%dofmap%eq)
+        call move_alloc(ahead%dofmap%dof_ptr, system%dofmap%dof_ptr)
+        call move_alloc(ahead%dofmap%dofs, system%dofmap%dofs)
+        system%pattern%n = ahead%pattern%n
+        system%pattern%nnz = ahead%pattern%nnz
+        call move_alloc(ahead%pattern%colptr, system%pattern%colptr)
+        call move_alloc(ahead%pattern%rowind, system%pattern%rowind)
+        call move_alloc(ahead%pattern%map_ptr, system%pattern%map_ptr)
+        call move_alloc(ahead%pattern%map, system%pattern%map)
+        call system%solver%adopt(ahead%solver)
+        taken = .true.
+    end function take_ahead
+
+    !> The preparation posted is for this active set and these couplings.
+    logical function same_key(active, contact, has_contact) result(same)
+        logical, intent(in) :: active(:)
+        type(contact_t), intent(in) :: contact
+        logical, intent(in) :: has_contact
+        same = .false.
+        if (size(active) /= size(ahead_active)) return
+        if (has_contact .neqv. ahead_has_contact) return
+        if (.not. all(active .eqv. ahead_active)) return
+        if (has_contact) then
+            if (contact%nc /= ahead_contact%nc .or. contact%ngroup /= ahead_contact%ngroup) &
+                return
+            if (.not. (same_list(contact%cpl_ptr, ahead_contact%cpl_ptr) .and. &
+                       same_list(contact%cpl_node, ahead_contact%cpl_node) .and. &
+                       same_list(contact%grp_ptr, ahead_contact%grp_ptr) .and. &
+                       same_list(contact%grp_node, ahead_contact%grp_node))) return
+        end if
+        same = .true.
+    end function same_key
+
+    pure logical function same_list(a, b) result(same)
+        integer, allocatable, intent(in) :: a(:), b(:)
+        same = allocated(a) .eqv. allocated(b)
+        if (.not. (same .and. allocated(a))) return
+        same = size(a) == size(b)
+        if (same) same = all(a == b)
+    end function same_list
+
+    !> The coupling lists of `from` (what the pattern is made of) into `to`.
+    subroutine copy_couplings(from, to)
+        type(contact_t), intent(in) :: from
+        type(contact_t), intent(inout) :: to
+        to%nc = from%nc
+        to%ngroup = from%ngroup
+        call copy_list(from%cpl_ptr, to%cpl_ptr)
+        call copy_list(from%cpl_node, to%cpl_node)
+        call copy_list(from%grp_ptr, to%grp_ptr)
+        call copy_list(from%grp_node, to%grp_node)
+    end subroutine copy_couplings
+
+    pure subroutine copy_list(from, to)
+        integer, allocatable, intent(in) :: from(:)
+        integer, allocatable, intent(inout) :: to(:)
+        if (allocated(to)) deallocate (to)
+        if (allocated(from)) to = from
+    end subroutine copy_list
 
     !> The multiplier scale: the largest diagonal entry of K over the largest slave node
     !> length, so that the contact entries (scale x length) are of the size of K's.
@@ -296,7 +519,9 @@ contains
         do
             if (.not. system%solver%is_analysed()) then
                 ! Symbolic factorisation once per pattern (after the first assembly, so that
-                ! UMFPACK sees the values it orders for).
+                ! UMFPACK sees the values it orders for); not beside a preparation ahead
+                ! (new_system: METIS's random numbers).
+                if (ahead_posted) call c_ahead_wait()
                 call system%solver%analyse(system%pattern, system%values, error)
                 if (allocated(error)) then
                     error%message = context//': '//error%message
@@ -304,8 +529,14 @@ contains
                 end if
                 result%stats%t_symbolic = result%stats%t_symbolic + (wall_seconds() - t1)
                 result%stats%analyses = result%stats%analyses + 1
+                call post_ahead()
                 t1 = wall_seconds()
+            else if (system%prepared_ahead) then
+                ! the analysis prepared ahead, on the second thread: counted as made
+                result%stats%analyses = result%stats%analyses + 1
+                result%stats%analyses_ahead = result%stats%analyses_ahead + 1
             end if
+            system%prepared_ahead = .false.
             call system%solver%factorise(system%pattern, system%values, declined, error, &
                                          reused)
             if (allocated(error)) then

@@ -24,7 +24,7 @@ module cfrd_stage_driver
     use cfrd_contact_results, only: record_contact
     use cfrd_creep_step, only: creep_strains, wetting_strains, ncreep
     use cfrd_signals, only: stop_signal, stop_error
-    use cfrd_linear_system, only: system_t, new_system
+    use cfrd_linear_system, only: system_t, new_system, expect_next, forget_ahead
     use cfrd_stage_state, only: state_t, ngauss
     use cfrd_increment, only: solve_increment
     use cfrd_error_control, only: halvings, unbalanced_warning, may_grow
@@ -92,6 +92,7 @@ contains
         allocate (results%stages(merge(size(model%stages), 1, keep_all)))
         restart = 0
         if (present(stored) .and. present(from_stage)) restart = from_stage
+        call forget_ahead()
         do s = 1, size(model%stages)
             k = merge(s, 1, keep_all)
             if (s <= restart) then
@@ -99,9 +100,12 @@ contains
             else
                 call run_stage(model, library, s, state, system, results%stages(k), error)
             end if
-            if (allocated(error)) return
+            if (allocated(error)) exit
             if (present(progress)) call progress(s, size(model%stages), results%stages(k))
         end do
+        ! the system prepared ahead reads the library: done with before it goes
+        call forget_ahead()
+        if (allocated(error)) return
         results%wall_time = wall_seconds() - t_start
     contains
         !> Stage `number` as stored, its state the state reached; after the last stored
@@ -125,6 +129,20 @@ contains
             system%scale_given = .true.
         end subroutine stored_stage
     end subroutine run_analysis
+
+    !> The active set after the first FILL stage after stage s (unallocated: none follows).
+    pure function next_fill(model, s, active) result(next)
+        type(model_t), intent(in) :: model
+        integer, intent(in) :: s
+        logical, intent(in) :: active(:)
+        logical, allocatable :: next(:)
+        integer :: j
+        do j = s + 1, size(model%stages)
+            if (model%stages(j)%kind /= stage_fill) cycle
+            next = active .or. model%mesh%group == model%stages(j)%group
+            return
+        end do
+    end function next_fill
 
     !> A stage result's label, kind, date, reservoir level and day.
     subroutine stage_labels(stage, state, result)
@@ -244,6 +262,8 @@ contains
                     state%prescribed_done = .true.
                 end if
             end select
+            ! The next FILL stage's system is prepared while this stage is solved.
+            call expect_next(next_fill(model, s, state%active))
 
             ! A WATER stage without wetted faces (EFFECTS WATER OFF) only moves the level.
             dry = .true.

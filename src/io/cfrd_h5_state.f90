@@ -259,6 +259,7 @@ contains
             s%lu_nnz = int_attribute(id, 'lu_nnz')
             s%patterns = int_attribute(id, 'patterns')
             s%analyses = int_attribute(id, 'symbolic_factorisations')
+            s%analyses_ahead = max(0, int_attribute(id, 'symbolic_ahead'))
             s%cholesky = int_attribute(id, 'cholesky')
             s%cholesky_declined = int_attribute(id, 'cholesky_declined')
             s%updates = int_attribute(id, 'updates')

@@ -345,6 +345,7 @@ contains
         call attr_int(solver_id, 'lu_nnz', stage%stats%lu_nnz, st)
         call attr_int(solver_id, 'patterns', stage%stats%patterns, st)
         call attr_int(solver_id, 'symbolic_factorisations', stage%stats%analyses, st)
+        call attr_int(solver_id, 'symbolic_ahead', stage%stats%analyses_ahead, st)
         call attr_int(solver_id, 'numeric_factorisations', stage%factorisations, st)
         call attr_int(solver_id, 'cholesky', stage%stats%cholesky, st)
         call attr_int(solver_id, 'cholesky_declined', stage%stats%cholesky_declined, st)

@@ -381,6 +381,8 @@ contains
                 sum(summaries%increments)
             write (unit, counts) '   sparse patterns built', st%patterns, sum(all%patterns)
             write (unit, counts) '   symbolic factorisations', st%analyses, sum(all%analyses)
+            write (unit, counts) '     of which made ahead (2nd thread)', st%analyses_ahead, &
+                sum(all%analyses_ahead)
             write (unit, counts) '   numeric factorisations', &
                 summaries(size(summaries))%factorisations, sum(summaries%factorisations)
             write (unit, counts) '     of which CHOLMOD (L L^T)', st%cholesky, &

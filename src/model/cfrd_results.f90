@@ -27,6 +27,9 @@ module cfrd_results
         real(dp) :: rcond = 0.0_dp         !! the library's reciprocal condition estimate
         integer :: patterns = 0            !! sparse patterns built (FILL; contact: couplings)
         integer :: analyses = 0            !! symbolic factorisations (orderings)
+        !> of these, made ahead on a second thread while the stage before was solved
+        !> (cfrd_linear_system's expect_next)
+        integer :: analyses_ahead = 0
         !> matrices solved through an earlier factorisation by a low-rank row update instead
         !> of a numeric factorisation of their own (contact active-set iterations)
         integer :: updates = 0

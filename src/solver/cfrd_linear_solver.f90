@@ -62,6 +62,8 @@ module cfrd_linear_solver
         procedure :: set_refinement
         procedure :: set_metis
         procedure :: choose
+        procedure :: prepare
+        procedure :: adopt
         procedure :: is_analysed
         procedure :: analyse
         procedure :: factorise
@@ -150,6 +152,40 @@ contains
                              'diagonal: CHOLMOD cannot factorise it (--linear-solver '// &
                              'cholmod; auto would use UMFPACK)', numerical_error)
     end subroutine choose
+
+    !> The analyses that choose and analyse make of the pattern when its matrix is symmetric
+    !> with a positive diagonal (CHOLMOD's, or cfrd_schur's for a saddle-point system), made
+    !> before any values exist: a pattern prepared ahead (cfrd_linear_system), whose system
+    !> adopts them. The same analyses, bit for bit, as those made when it is factorised.
+    subroutine prepare(self, pattern, error)
+        class(linear_solver_t), intent(inout) :: self
+        type(sparse_pattern_t), intent(in) :: pattern
+        type(error_t), allocatable, intent(out) :: error
+        logical :: fits
+        if (self%choice == linear_solver_umfpack) return
+        if (.not. self%may_be_spd .and. self%multipliers == 0) return
+        self%mirror = mirror_positions(pattern)
+        if (self%multipliers > 0) then
+            call self%sc%analyse(pattern, self%multipliers, error, fits)
+            if (.not. allocated(error)) self%schur_too_large = .not. fits
+            return
+        end if
+        call self%llt%set_ordering(ordering_for(pattern%n, self%constant_tangent))
+        call self%llt%analyse(pattern, error)
+    end subroutine prepare
+
+    !> The analyses prepared in `from` (prepare, on the same pattern and configuration)
+    !> moved into self, released and configured: its factorisations need no analysis of
+    !> their own. `from` is left released.
+    subroutine adopt(self, from)
+        class(linear_solver_t), intent(inout) :: self
+        type(linear_solver_t), intent(inout) :: from
+        if (allocated(from%mirror)) call move_alloc(from%mirror, self%mirror)
+        if (from%llt%is_analysed()) call self%llt%exchange(from%llt)
+        call self%sc%take_analysis(from%sc)
+        self%schur_too_large = from%schur_too_large
+        call from%release()
+    end subroutine adopt
 
     !> The chosen library's symbolic analysis of the pattern exists.
     logical function is_analysed(self)

@@ -82,6 +82,7 @@ module cfrd_schur
         procedure :: rcond
         procedure :: factor_nonzeros
         procedure :: keep
+        procedure :: take_analysis
         procedure :: release
     end type schur_t
 
@@ -432,6 +433,31 @@ contains
         b%pivots = numbers(2:3)
         b%factorised = flag
     end subroutine exchange_factors
+
+    !> The analysis of `from` moved into self (released first); `from` is left without one
+    !> (a pattern analysed ahead, cfrd_linear_solver's adopt).
+    subroutine take_analysis(self, from)
+        class(schur_t), intent(inout) :: self
+        type(schur_t), intent(inout) :: from
+        call self%release()
+        if (.not. from%analysed) return
+        self%nu = from%nu
+        self%nl = from%nl
+        self%ng = from%ng
+        self%kpattern%n = from%kpattern%n
+        self%kpattern%nnz = from%kpattern%nnz
+        call move_alloc(from%kpattern%colptr, self%kpattern%colptr)
+        call move_alloc(from%kpattern%rowind, self%kpattern%rowind)
+        call move_alloc(from%k_from, self%k_from)
+        call move_alloc(from%shift_at, self%shift_at)
+        call move_alloc(from%r_from, self%r_from)
+        call move_alloc(from%r_to, self%r_to)
+        call move_alloc(from%last, self%last)
+        call move_alloc(from%g_eq, self%g_eq)
+        call exchange_factors(self%k, from%k)
+        self%analysed = .true.
+        call from%release()
+    end subroutine take_analysis
 
     !> Free everything (a new pattern follows).
     subroutine release(self)
