@@ -101,6 +101,26 @@ contains
         end do
     end subroutine grid
 
+    !> An elastic grid of nx x ny unit quads (grid) with its base row of nodes fixed, its
+    !> elements and a state at rest.
+    subroutine base_fixed_grid(nx, ny, model, library, state, error)
+        integer, intent(in) :: nx, ny
+        type(model_t), intent(out) :: model
+        type(element_box_t), allocatable, intent(out) :: library(:)
+        type(state_t), intent(out) :: state
+        type(error_t), allocatable, intent(out) :: error
+        real(dp), allocatable :: x(:, :)
+        integer, allocatable :: conn(:, :)
+        integer :: j
+        call grid(nx, ny, 0.0_dp, 0.0_dp, 0, x, conn)
+        call new_model(model, x, conn, [(1, j=1, nx*ny)], &
+                       [elastic_material(young, nu, 0.0_dp)])
+        model%fixed(:, 1:nx + 1) = .true.
+        call make_elements(model, library, error)
+        if (allocated(error)) return
+        call rest_state(model, state)
+    end subroutine base_fixed_grid
+
     !> A state at rest with every element active.
     subroutine rest_state(model, state)
         type(model_t), intent(in) :: model
@@ -123,15 +143,10 @@ contains
         type(state_t) :: state
         type(system_t) :: system
         type(stage_result_t) :: result
-        real(dp), allocatable :: x(:, :), b(:), solution(:), reference(:)
-        integer, allocatable :: conn(:, :)
+        real(dp), allocatable :: b(:), solution(:), reference(:)
         integer :: n, j
-        call grid(3, 2, 0.0_dp, 0.0_dp, 0, x, conn)
-        call new_model(model, x, conn, [(1, j=1, 6)], [elastic_material(young, nu, 0.0_dp)])
-        model%fixed(:, 1:4) = .true.
-        call make_elements(model, library, error)
+        call base_fixed_grid(3, 2, model, library, state, error)
         if (allocated(error)) return
-        call rest_state(model, state)
         call new_system(model, library, state%active, system, error, state%contact, .false.)
         if (allocated(error)) return
         call assemble_tangent(model, library, state%active, system%pattern, state%stress, &
@@ -350,16 +365,11 @@ contains
         type(state_t) :: state
         type(system_t) :: lower, ahead, own
         type(stage_result_t) :: r_lower, r_ahead, r_own
-        real(dp), allocatable :: x(:, :), b(:), x_ahead(:), x_own(:), reference(:)
-        integer, allocatable :: conn(:, :)
+        real(dp), allocatable :: b(:), x_ahead(:), x_own(:), reference(:)
         logical, allocatable :: half(:), whole(:)
         integer :: n, j
-        call grid(3, 4, 0.0_dp, 0.0_dp, 0, x, conn)
-        call new_model(model, x, conn, [(1, j=1, 12)], [elastic_material(young, nu, 0.0_dp)])
-        model%fixed(:, 1:4) = .true.
-        call make_elements(model, library, error)
+        call base_fixed_grid(3, 4, model, library, state, error)
         if (allocated(error)) return
-        call rest_state(model, state)
         half = [(j <= 6, j=1, 12)]
         whole = [(.true., j=1, 12)]
         ! the lower half solved while the whole grid's system is prepared

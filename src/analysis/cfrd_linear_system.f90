@@ -218,7 +218,10 @@ contains
         if (ahead_posted) call c_ahead_wait()
         ahead_posted = .false.
         pending = .false.
+        ! a system prepared and not taken: nothing of it kept to the next run
         call ahead%solver%release()
+        ahead%dofmap = dof_map_t()
+        ahead%pattern = sparse_pattern_t()
         if (allocated(next_active)) deallocate (next_active)
         ahead_model => null()
         ahead_library => null()
