@@ -9,7 +9,7 @@ module cfrd_stage_driver
     use cfrd_strings, only: to_text, fixed_text, level_text
     use cfrd_model, only: model_t, stage_t, stage_fill, stage_load, stage_reset, stage_water, &
                           stage_wait, stage_wet, no_date, has_creep, has_wetting, &
-                          newtop_zero, dry_level
+                          newtop_zero, dry_level, fill_active
     use cfrd_results, only: results_t, stage_result_t
     use cfrd_principal, only: principal_stresses
     use cfrd_material_law, only: nhistory, stress_level
@@ -139,7 +139,7 @@ contains
         integer :: j
         do j = s + 1, size(model%stages)
             if (model%stages(j)%kind /= stage_fill) cycle
-            next = active .or. model%mesh%group == model%stages(j)%group
+            next = fill_active(model%mesh, active, model%stages(j)%group)
             return
         end do
     end function next_fill
@@ -232,7 +232,7 @@ contains
             case (stage_fill)
                 ! The water on the faces the new group wets or covers changes with it.
                 call water_forces(model, library, state%active, state%level, water_before)
-                where (mesh%group == stage%group) state%active = .true.
+                state%active = fill_active(mesh, state%active, stage%group)
                 call fill_forces(model, library, stage%group, stage_force)
                 call water_forces(model, library, state%active, state%level, water_after)
                 stage_force = stage_force + water_after - water_before

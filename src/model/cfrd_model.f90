@@ -10,7 +10,7 @@ module cfrd_model
 
     public :: model_t, mesh_t, material_t, gravity_load_t, pressure_load_t, load_set_t
     public :: stage_t, stage_fill, stage_load, stage_reset, stage_water, stage_wait
-    public :: stage_kind_name, no_date, has_creep, has_wetting, stage_wet
+    public :: stage_kind_name, no_date, has_creep, has_wetting, stage_wet, fill_active
     public :: wet_face_t, gauge_t, dry_level
     public :: plane_strain, axisymmetric, law_elastic, law_duncan_eb, law_goodman, all_groups
     public :: law_pjoint, is_joint_law
@@ -375,4 +375,14 @@ contains
         has_wetting = .false.
         if (allocated(model%materials)) has_wetting = any(model%materials%wetting)
     end function has_wetting
+    !> The active elements after a FILL stage of `group`: those active before and the
+    !> group's (the one activation rule: the stage driver, its preparation ahead, the check).
+    pure function fill_active(mesh, active, group) result(after)
+        type(mesh_t), intent(in) :: mesh
+        logical, intent(in) :: active(:)
+        integer, intent(in) :: group
+        logical :: after(size(active))
+        after = active .or. mesh%group == group
+    end function fill_active
+
 end module cfrd_model

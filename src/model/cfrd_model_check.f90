@@ -3,7 +3,7 @@
 !> sections 3 and 5). They return what is wrong; the deck reader words the message.
 module cfrd_model_check
     use cfrd_kinds, only: dp
-    use cfrd_model, only: model_t, mesh_t, stage_fill, stage_load
+    use cfrd_model, only: model_t, mesh_t, stage_fill, stage_load, fill_active
     implicit none
     private
 
@@ -137,7 +137,7 @@ contains
         do s = 1, size(model%stages)
             associate (st => model%stages(s))
                 if (st%kind == stage_fill) then
-                    where (model%mesh%group == st%group) active = .true.
+                    active = fill_active(model%mesh, active, st%group)
                 else if (st%kind == stage_load) then
                     associate (loads => model%load_sets(st%load_set))
                         do k = 1, size(loads%pressures)
