@@ -11,11 +11,12 @@ tools/check_results_lean.py):
              types and shapes, and every value equal bit for bit;
   filters    its datasets of 1024 values or more are chunked through HDF5's shuffle and
              deflate (gzip) filters, the smaller ones and the packed restart state contiguous;
-  format     the default file is in HDF5 1.10's file format (superblock version 3) and each
-             of its chunked datasets is indexed as a single chunk or a fixed array, read off
-             its layout message (the HDF5 File Format Specification 3.0, sections II.A and
-             IV.A.2.i), not by a version 1 B-tree node of its own (2-3 kB a dataset in the
-             format of HDF5 1.8, docs/performance.md (am));
+  btree-k    the default file's superblock is of version 1 (HDF5 1.8's format: every HDF5
+             program reads it, and a killed run's file opens without h5clear) with the
+             indexed-storage internal node K of 2, read off the file's bytes (the HDF5 File
+             Format Specification 3.0, section II.A): each chunked dataset's first B-tree
+             node takes at most 256 bytes, where HDF5's default K of 32 gives 2-3 kB
+             (docs/performance.md (am));
   float32    the --float32 file's real datasets under /stages are IEEE single precision and
              equal to the unfiltered file's doubles rounded to single precision (numpy's
              round-to-nearest), exactly; the mesh, the deck and the integer datasets are
@@ -45,7 +46,6 @@ reader ParaView-style time series are checked with) against the HDF5 datasets, e
     python3 tools/check_results_format.py --xdmf RESULTS.xmf DECK            (an existing run)
 """
 
-import collections
 import os
 import pathlib
 import struct
@@ -115,60 +115,31 @@ def datasets(path):
     return out
 
 
-CHUNK_INDEX = {1: "single chunk", 2: "implicit", 3: "fixed array", 4: "extensible array",
-               5: "version 2 B-tree"}
+def superblock(path):
+    """(version, indexed-storage internal node K) of an HDF5 file's superblock of version 1
+    (the HDF5 File Format Specification 3.0, section II.A: the version at byte 8, the K
+    after the signature, four version bytes, the sizes, the group Ks and the consistency
+    flags, at byte 24); K None for another version."""
+    with open(path, "rb") as fh:
+        head = fh.read(26)
+    version = head[8]
+    return version, (struct.unpack_from("<H", head, 24)[0] if version == 1 else None)
 
 
-def header_messages(buf, pos, end, creation_order):
-    """(type, data) of the messages of a version 2 object header's chunk buf[pos:end]
-    (the specification's section IV.A.1.b)."""
-    while pos + 4 <= end:
-        mtype, size, _flags = struct.unpack_from("<BHB", buf, pos)
-        pos += 4 + (2 if creation_order else 0)
-        yield mtype, buf[pos:pos + size]
-        pos += size
-
-
-def chunk_index(fh, addr):
-    """How the chunked dataset whose object header is at addr indexes its chunks, from its
-    layout message (type 8)."""
-    fh.seek(addr)
-    head = fh.read(32)
-    if head[:4] != b"OHDR":
-        return "version 1 B-tree (version 1 object header)"
-    flags = head[5]
-    pos = 6 + (16 if flags & 0x20 else 0) + (4 if flags & 0x10 else 0)
-    width = 1 << (flags & 0x03)
-    size0 = int.from_bytes(head[pos:pos + width], "little")
-    fh.seek(addr)
-    pending = [(fh.read(pos + width + size0), pos + width, pos + width + size0)]
-    while pending:
-        buf, start, end = pending.pop()
-        for mtype, data in header_messages(buf, start, end, flags & 0x04):
-            if mtype == 0x08:                  # layout: version, class (2: chunked), ...
-                if data[0] < 4:
-                    return "version 1 B-tree"
-                ndims, width_dims = data[3], data[4]
-                return CHUNK_INDEX.get(data[5 + ndims * width_dims], "unknown")
-            if mtype == 0x10:                  # continuation: "OCHK", messages, checksum
-                offset, length = struct.unpack_from("<QQ", data)
-                fh.seek(offset)
-                pending.append((fh.read(length), 4, length - 4))
-    return "no layout message"
-
-
-def chunk_indexes(path):
-    """Counts of the chunk indexes of the file's chunked datasets (each object once)."""
-    seen, kinds = set(), collections.Counter()
-    with h5py.File(path, "r") as f, open(path, "rb") as fh:
+def outside_values(path):
+    """(bytes of the file outside its datasets' stored values, distinct datasets, of them
+    chunked)."""
+    sizes, chunked = {}, 0
+    with h5py.File(path, "r") as f:
         def visit(_name, obj):
-            if isinstance(obj, h5py.Dataset) and obj.chunks is not None:
+            nonlocal chunked
+            if isinstance(obj, h5py.Dataset):
                 addr = h5py.h5o.get_info(obj.id).addr
-                if addr not in seen:
-                    seen.add(addr)
-                    kinds[chunk_index(fh, addr)] += 1
+                if addr not in sizes:
+                    sizes[addr] = obj.id.get_storage_size()
+                    chunked += obj.chunks is not None
         f.visititems(visit)
-    return kinds
+    return os.path.getsize(path) - sum(sizes.values()), len(sizes), chunked
 
 
 def check_format(check, cfrd, workdir):
@@ -202,13 +173,14 @@ def check_format(check, cfrd, workdir):
           f"{len(filtered)} of {len(big)} datasets of 1024 values or more chunked through "
           "shuffle and gzip, the smaller ones contiguous; --compress 0: none filtered")
 
-    with open(files["default"], "rb") as fh:
-        superblock = fh.read(9)[8]
-    kinds = chunk_indexes(files["default"])
-    check("hdf5-1.10", superblock == 3 and sum(kinds.values()) > 0 and
-          set(kinds) <= {"single chunk", "fixed array"},
-          f"superblock version {superblock} (3); chunked datasets indexed: "
-          + ", ".join(f"{n} {k}" for k, n in sorted(kinds.items())))
+    version, istore_k = superblock(files["default"])
+    outside, n_sets, n_chunked = outside_values(files["default"])
+    node = 24 + (2 * istore_k + 1) * (8 + 8 * 4) + 2 * istore_k * 8 if istore_k else 0
+    check("btree-k", version == 1 and istore_k == 2,
+          f"superblock version {version} (1: the format of HDF5 1.8, no consistency flags "
+          f"that would lock a killed run's file), indexed-storage K {istore_k} (2): a rank-3 "
+          f"chunked dataset's B-tree node {node} bytes, 3136 at HDF5's default K of 32; "
+          f"{outside} bytes outside the values of {n_sets} datasets ({n_chunked} chunked)")
 
     bad = []
     count = 0
