@@ -11,6 +11,12 @@ tools/check_results_lean.py):
              types and shapes, and every value equal bit for bit;
   filters    its datasets of 1024 values or more are chunked through HDF5's shuffle and
              deflate (gzip) filters, the smaller ones and the packed restart state contiguous;
+  btree-k    the default file's superblock is of version 1 (HDF5 1.8's format: every HDF5
+             program reads it, and a killed run's file opens without h5clear) with the
+             indexed-storage internal node K of 2, read off the file's bytes (the HDF5 File
+             Format Specification 3.0, section II.A): each chunked dataset's first B-tree
+             node takes at most 256 bytes, where HDF5's default K of 32 gives 2-3 kB
+             (docs/performance.md (am));
   float32    the --float32 file's real datasets under /stages are IEEE single precision and
              equal to the unfiltered file's doubles rounded to single precision (numpy's
              round-to-nearest), exactly; the mesh, the deck and the integer datasets are
@@ -42,6 +48,7 @@ reader ParaView-style time series are checked with) against the HDF5 datasets, e
 
 import os
 import pathlib
+import struct
 import subprocess
 import sys
 
@@ -108,6 +115,33 @@ def datasets(path):
     return out
 
 
+def superblock(path):
+    """(version, indexed-storage internal node K) of an HDF5 file's superblock of version 1
+    (the HDF5 File Format Specification 3.0, section II.A: the version at byte 8, the K
+    after the signature, four version bytes, the sizes, the group Ks and the consistency
+    flags, at byte 24); K None for another version."""
+    with open(path, "rb") as fh:
+        head = fh.read(26)
+    version = head[8]
+    return version, (struct.unpack_from("<H", head, 24)[0] if version == 1 else None)
+
+
+def outside_values(path):
+    """(bytes of the file outside its datasets' stored values, distinct datasets, of them
+    chunked)."""
+    sizes, chunked = {}, 0
+    with h5py.File(path, "r") as f:
+        def visit(_name, obj):
+            nonlocal chunked
+            if isinstance(obj, h5py.Dataset):
+                addr = h5py.h5o.get_info(obj.id).addr
+                if addr not in sizes:
+                    sizes[addr] = obj.id.get_storage_size()
+                    chunked += obj.chunks is not None
+        f.visititems(visit)
+    return os.path.getsize(path) - sum(sizes.values()), len(sizes), chunked
+
+
 def check_format(check, cfrd, workdir):
     files = {}
     for label, options in (("plain", ["--compress", "0"]), ("default", []),
@@ -138,6 +172,15 @@ def check_format(check, cfrd, workdir):
     check("filters", len(filtered) == len(big) > 0 and small_plain and unfiltered,
           f"{len(filtered)} of {len(big)} datasets of 1024 values or more chunked through "
           "shuffle and gzip, the smaller ones contiguous; --compress 0: none filtered")
+
+    version, istore_k = superblock(files["default"])
+    outside, n_sets, n_chunked = outside_values(files["default"])
+    node = 24 + (2 * istore_k + 1) * (8 + 8 * 4) + 2 * istore_k * 8 if istore_k else 0
+    check("btree-k", version == 1 and istore_k == 2,
+          f"superblock version {version} (1: the format of HDF5 1.8, no consistency flags "
+          f"that would lock a killed run's file), indexed-storage K {istore_k} (2): a rank-3 "
+          f"chunked dataset's B-tree node {node} bytes, 3136 at HDF5's default K of 32; "
+          f"{outside} bytes outside the values of {n_sets} datasets ({n_chunked} chunked)")
 
     bad = []
     count = 0

@@ -11,7 +11,9 @@
 module cfrd_hdf5
     use, intrinsic :: iso_fortran_env, only: compiler_version
     use hdf5, only: hid_t, h5close_f, h5fcreate_f, h5fclose_f, h5fflush_f, &
-                    h5gclose_f, h5eset_auto_f, H5F_ACC_TRUNC_F, H5F_SCOPE_GLOBAL_F
+                    h5gclose_f, h5eset_auto_f, H5F_ACC_TRUNC_F, H5F_SCOPE_GLOBAL_F, &
+                    h5pcreate_f, h5pclose_f, h5pset_istore_k_f, H5P_FILE_CREATE_F, &
+                    H5P_DEFAULT_F
     use cfrd_h5_deflate, only: h5_open
     use cfrd_kinds, only: dp
     use cfrd_h5_datasets, only: h5_state_t, fail, open_group, close_group, dataset_real1, &
@@ -127,7 +129,7 @@ contains
             return
         end if
         call h5eset_auto_f(0, hdferr)   ! our messages, not HDF5's error stack on stderr
-        call h5fcreate_f(path, H5F_ACC_TRUNC_F, file%file_id, hdferr)
+        call create_file(path, file%file_id, hdferr)
         if (hdferr < 0) then
             file%file_id = -1
             call h5close_f(hdferr)
@@ -548,4 +550,26 @@ contains
             counts(:, e) = element%gauss_points()
         end do
     end subroutine gauss_point_counts
+
+    !> Create `path` (replacing it) with B-tree nodes of at most 2 istore_k chunk entries for
+    !> the chunked datasets [choice, docs/performance.md (am)]: HDF5 allocates every chunked
+    !> dataset's first node whole, 2-3 kB at its default istore_k of 32, a fifth of a small
+    !> deck's file; at istore_k 2 a node of four chunks takes 160-256 bytes. The file stays
+    !> in the format of HDF5 1.8 (superblock version 1), which every HDF5 program reads.
+    subroutine create_file(path, file_id, hdferr)
+        character(len=*), intent(in) :: path
+        integer(hid_t), intent(out) :: file_id
+        integer, intent(out) :: hdferr
+        integer, parameter :: istore_k = 2
+        integer(hid_t) :: fcpl_id
+        integer :: close_err
+        file_id = -1
+        call h5pcreate_f(H5P_FILE_CREATE_F, fcpl_id, hdferr)
+        if (hdferr < 0) return
+        call h5pset_istore_k_f(fcpl_id, istore_k, hdferr)
+        if (hdferr >= 0) call h5fcreate_f(path, H5F_ACC_TRUNC_F, file_id, hdferr, fcpl_id, &
+                                          H5P_DEFAULT_F)
+        call h5pclose_f(fcpl_id, close_err)   ! a property list: nothing of the file
+    end subroutine create_file
+
 end module cfrd_hdf5
