@@ -553,7 +553,7 @@ contains
 
     !> Create `path` (replacing it) with B-tree nodes of at most 2 istore_k chunk entries for
     !> the chunked datasets [choice, docs/performance.md (am)]: HDF5 allocates every chunked
-    !> dataset's first node whole, 2-3 kB at its default istore_k of 32, a fifth of a small
+    !> dataset's first node whole, 2-3 kB at its default istore_k of 32, a tenth of a small
     !> deck's file; at istore_k 2 a node of four chunks takes 160-256 bytes. The file stays
     !> in the format of HDF5 1.8 (superblock version 1), which every HDF5 program reads.
     subroutine create_file(path, file_id, hdferr)
@@ -571,5 +571,4 @@ contains
                                           H5P_DEFAULT_F)
         call h5pclose_f(fcpl_id, close_err)   ! a property list: nothing of the file
     end subroutine create_file
-
 end module cfrd_hdf5

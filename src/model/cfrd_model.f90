@@ -375,6 +375,7 @@ contains
         has_wetting = .false.
         if (allocated(model%materials)) has_wetting = any(model%materials%wetting)
     end function has_wetting
+
     !> The active elements after a FILL stage of `group`: those active before and the
     !> group's (the one activation rule: the stage driver, its preparation ahead, the check).
     pure function fill_active(mesh, active, group) result(after)
@@ -384,5 +385,4 @@ contains
         logical :: after(size(active))
         after = active .or. mesh%group == group
     end function fill_active
-
 end module cfrd_model
